@@ -1,0 +1,43 @@
+"""One exception root for everything graspframe raises on purpose.
+
+Messages say what was wrong and what is accepted, in one line, so the CLI can print
+them as they are.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+
+class GraspframeError(Exception):
+    """Root of every error graspframe raises deliberately."""
+
+
+class UnknownNameError(GraspframeError, KeyError):
+    """A name (hand, arm, grasp, object, ...) that is not known; lists the known ones."""
+
+    def __init__(self, kind: str, name: str, known: Iterable[str]):
+        self.kind = kind
+        self.name = name
+        self.known = sorted(known)
+        listing = ", ".join(self.known) if self.known else "none are registered"
+        super().__init__(f"unknown {kind} {name!r}; known {kind}s: {listing}")
+
+    def __str__(self) -> str:  # KeyError would otherwise quote the whole message
+        return self.args[0]
+
+
+class PluginError(GraspframeError):
+    """A plugin failed to load, to validate or to register."""
+
+
+class DescriptionError(GraspframeError):
+    """A hand, arm or object description is inconsistent."""
+
+
+class InputError(GraspframeError):
+    """User input (a file, an option value) that cannot be used."""
+
+
+class NotAvailableError(GraspframeError):
+    """A feature that this version of graspframe does not provide yet."""

@@ -1,0 +1,54 @@
+"""Image -> human grasp estimate."""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from graspframe.grasps import HumanGrasp
+
+
+@dataclass(frozen=True)
+class Neighbour:
+    """One database view used for an estimate: its label, its hand-vs-camera rotation
+    R_cam_hand, and its descriptor distance to the query [-]."""
+
+    view_id: int
+    grasp: HumanGrasp
+    R_cam_hand: NDArray[np.float64]
+    distance: float
+
+
+@dataclass(frozen=True)
+class HumanGraspEstimate:
+    """What a classifier says about one image.
+
+    grasp: the estimated human grasp; confidence: its vote share in [0, 1].
+    R_cam_hand: rotation of the human palm frame in the camera frame.
+    p_cam_hand: palm position in the camera frame [m], None when not estimated.
+    neighbours: the database views behind the estimate, nearest first.
+    """
+
+    grasp: HumanGrasp
+    confidence: float
+    R_cam_hand: NDArray[np.float64]
+    p_cam_hand: NDArray[np.float64] | None
+    neighbours: tuple[Neighbour, ...] = ()
+
+
+class Classifier(ABC):
+    """Turns a colour image (H x W x 3, uint8, BGR as OpenCV reads it) into an estimate.
+
+    Registered as a class; `name` is what users select. Raises a GraspframeError (never
+    guesses) when the image holds no hand or cannot be used.
+    """
+
+    name: ClassVar[str]
+    summary: ClassVar[str] = ""
+
+    @abstractmethod
+    def classify(self, image_bgr: NDArray[np.uint8]) -> HumanGraspEstimate: ...

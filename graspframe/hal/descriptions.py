@@ -1,0 +1,190 @@
+"""What a robot is: pure data, no simulator import.
+
+A `HandDescription` or `ArmDescription` names a URDF model and says, in SI units, which
+joints it drives and within which limits, where its named frames are, which links make
+up each real finger, and (for hands) the preshapes and the human-grasp -> preshape
+mapping table. Backends, the planner and the metric read these; none of them hard-codes
+a particular robot.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from graspframe.errors import DescriptionError, UnknownNameError
+from graspframe.grasps import PALM, HumanGrasp
+
+
+@dataclass(frozen=True)
+class JointSpec:
+    """One joint of a model and its limits.
+
+    lower, upper: position limits [rad] (or [m] for prismatic joints)
+    max_velocity [rad/s], max_acceleration [rad/s^2], max_jerk [rad/s^3]: motion limits;
+        acceleration and jerk matter for arm joints (trajectory generation) and may be
+        left at infinity for hand joints.
+    max_effort: [N m] (or [N]) the drive's force limit.
+    """
+
+    name: str
+    lower: float
+    upper: float
+    max_velocity: float
+    max_effort: float
+    max_acceleration: float = math.inf
+    max_jerk: float = math.inf
+
+    def contains(self, q: float, tol: float = 1e-9) -> bool:
+        return self.lower - tol <= q <= self.upper + tol
+
+
+@dataclass(frozen=True)
+class Coupling:
+    """`follower` = multiplier * `leader` + offset [rad].
+
+    in_model: True when the URDF itself declares the coupling as a <mimic> joint (the
+    simulator enforces it); False when the hand's controller enforces it, as for the
+    Barrett distal joints whose coupling breaks away under contact torque.
+    """
+
+    follower: str
+    leader: str
+    multiplier: float
+    offset: float = 0.0
+    in_model: bool = True
+
+
+@dataclass(frozen=True)
+class DriveGains:
+    """Joint-space PD drive of a simulated actuator: stiffness [N m/rad], damping
+    [N m s/rad], force limit [N m]. Compliant (fluidic) hands use a low stiffness."""
+
+    stiffness: float
+    damping: float
+    force_limit: float
+
+
+@dataclass(frozen=True)
+class HandPreshape:
+    """A preshape: joint targets [rad] for the open and the closed hand.
+
+    open_q: the configuration the hand takes before approaching.
+    closed_q: the targets commanded when closing; on an object the fingers stop
+        earlier, in free space they reach it.
+    delta: palm-to-fingertip distance [m] of the open preshape along the palm normal,
+        the standoff of the non-volar strategy (METHOD.md section 4.5).
+    """
+
+    name: str
+    open_q: Mapping[str, float]
+    closed_q: Mapping[str, float]
+    delta: float
+
+
+@dataclass(frozen=True)
+class HandDescription:
+    """A robot (or human) hand.
+
+    model_path: URDF file of the hand alone, its root link at the mounting interface.
+    root_link: the link that is fixed to an arm flange (or floats freely).
+    joints: every actuated joint, followers of in-model couplings excluded.
+    couplings: joint couplings (see `Coupling`).
+    palm_frame: a link whose frame is the palm frame: origin at the centre of the palm
+        surface, +z out of the palm towards the object, +x towards the fingertips.
+    palm_sensor_link: the link whose contacts count as "palm touches" for the volar
+        strategy.
+    real_fingers: real finger name -> links; must include PALM.
+    preshapes: preshape name -> preshape.
+    grasp_map: every HumanGrasp -> a preshape name (for the human hand: its posture).
+    drive: PD gains for the simulated finger drives.
+    mass: [kg] total, informative.
+    """
+
+    name: str
+    model_path: Path
+    root_link: str
+    joints: tuple[JointSpec, ...]
+    palm_frame: str
+    palm_sensor_link: str
+    real_fingers: Mapping[str, tuple[str, ...]]
+    preshapes: Mapping[str, HandPreshape]
+    grasp_map: Mapping[HumanGrasp, str]
+    drive: DriveGains
+    couplings: tuple[Coupling, ...] = ()
+    mass: float = 0.0
+    summary: str = ""
+    extras: Mapping[str, object] = field(default_factory=dict)
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        return tuple(j.name for j in self.joints)
+
+    def joint(self, name: str) -> JointSpec:
+        for j in self.joints:
+            if j.name == name:
+                return j
+        raise UnknownNameError(f"joint of hand {self.name!r}", name, self.joint_names)
+
+    def preshape(self, name: str) -> HandPreshape:
+        try:
+            return self.preshapes[name]
+        except KeyError:
+            raise UnknownNameError(
+                f"preshape of hand {self.name!r}", name, self.preshapes
+            ) from None
+
+    def preshape_for(self, grasp: HumanGrasp) -> HandPreshape:
+        """The preshape this hand uses for a human grasp (its mapping table)."""
+        if grasp not in self.grasp_map:
+            raise DescriptionError(
+                f"hand {self.name!r} has no mapping for grasp {grasp.value!r}; "
+                f"it maps: {', '.join(g.value for g in self.grasp_map)}"
+            )
+        return self.preshape(self.grasp_map[grasp])
+
+    def finger_of_link(self) -> dict[str, str]:
+        """link name -> real finger name."""
+        return {link: finger for finger, links in self.real_fingers.items() for link in links}
+
+    @property
+    def finger_names(self) -> tuple[str, ...]:
+        return tuple(self.real_fingers)
+
+    @property
+    def has_palm(self) -> bool:
+        return PALM in self.real_fingers
+
+
+@dataclass(frozen=True)
+class ArmDescription:
+    """A robot arm.
+
+    model_path: URDF file of the arm, base link first.
+    base_link: the link fixed to the world.
+    flange_link: the tool flange link; a hand's root link is fixed to it.
+    joints: the arm joints in chain order, with position, velocity, acceleration and
+        jerk limits (ruckig needs all four).
+    home_q: [rad] a comfortable configuration to start from, one value per joint.
+    drive: PD gains for the simulated joint drives.
+    """
+
+    name: str
+    model_path: Path
+    base_link: str
+    flange_link: str
+    joints: tuple[JointSpec, ...]
+    home_q: tuple[float, ...]
+    drive: DriveGains
+    payload: float = 0.0
+    summary: str = ""
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        return tuple(j.name for j in self.joints)
+
+    @property
+    def dof(self) -> int:
+        return len(self.joints)

@@ -1,0 +1,144 @@
+"""How to move a robot: the backend and driver interfaces (the hardware abstraction layer).
+
+A `Backend` builds a `World` (a table, an object, and a hand mounted on an arm or
+floating freely) and hands out drivers. Core code (planner, executor, metric) speaks only
+these interfaces, so the SAPIEN simulator and a hardware backend are interchangeable.
+Core code never imports a simulator.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from graspframe.contacts import Contact, PalmSensorReading
+from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.hal.objects import ObjectDescription
+
+
+@dataclass(frozen=True)
+class WorldConfig:
+    """Everything a backend needs to build a world.
+
+    arm: None for a free-floating hand (the human reference hand).
+    T_flange_hand: pose of the hand's root link in the arm flange frame.
+    T_world_arm_base: pose of the arm base in the world.
+    T_world_object: true pose of the object's centroid frame in the world.
+    table_height: [m] height of the table top (world z up).
+    timestep: physics step [s].
+    seed: seeds everything random in the world.
+    """
+
+    hand: HandDescription
+    arm: ArmDescription | None
+    object: ObjectDescription | None
+    T_flange_hand: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
+    T_world_arm_base: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
+    T_world_object: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
+    table_height: float = 0.0
+    timestep: float = 1.0 / 500.0
+    seed: int = 0
+
+
+class ArmDriver(ABC):
+    """Joint-level access to an arm."""
+
+    @property
+    @abstractmethod
+    def joint_names(self) -> tuple[str, ...]: ...
+
+    @abstractmethod
+    def set_joint_targets(self, q: Sequence[float], qd: Sequence[float] | None = None) -> None:
+        """Command joint positions [rad] (and optionally velocities [rad/s])."""
+
+    @abstractmethod
+    def joint_positions(self) -> NDArray[np.float64]:
+        """Measured joint positions [rad], in `joint_names` order."""
+
+    @abstractmethod
+    def joint_velocities(self) -> NDArray[np.float64]:
+        """Measured joint velocities [rad/s]."""
+
+
+class HandDriver(ABC):
+    """Joint-level access to a hand, its contacts and its palm sensor."""
+
+    @property
+    @abstractmethod
+    def joint_names(self) -> tuple[str, ...]: ...
+
+    @abstractmethod
+    def set_joint_targets(self, q_by_joint: Mapping[str, float]) -> None:
+        """Command the named actuated joints [rad]; others keep their targets."""
+
+    @abstractmethod
+    def joint_positions(self) -> dict[str, float]:
+        """Measured positions [rad] of the actuated joints."""
+
+    @abstractmethod
+    def contacts(self) -> list[Contact]:
+        """Current contacts between the hand and the object, in the world frame."""
+
+    @abstractmethod
+    def palm_sensor(self) -> PalmSensorReading:
+        """The palm tactile sensor and first-contact detector."""
+
+    @abstractmethod
+    def T_world_palm(self) -> NDArray[np.float64]:
+        """Measured pose of the palm frame in the world."""
+
+    def set_free_pose(self, T_world_palm: NDArray[np.float64]) -> None:
+        """Command the pose of a free-floating hand's palm (free-floating worlds only)."""
+        raise NotImplementedError(f"{type(self).__name__} drives a hand mounted on an arm")
+
+
+class ObjectProbe(ABC):
+    """Reads the true state of the object (ground truth in simulation)."""
+
+    @abstractmethod
+    def T_world_object(self) -> NDArray[np.float64]: ...
+
+
+class World(ABC):
+    """A built world: drivers plus the clock. `step` advances by one physics step."""
+
+    hand: HandDriver
+    arm: ArmDriver | None
+    object: ObjectProbe | None
+
+    @property
+    @abstractmethod
+    def time(self) -> float:
+        """Simulation (or wall) time since the world was built [s]."""
+
+    @property
+    @abstractmethod
+    def timestep(self) -> float:
+        """Duration of one `step` [s]."""
+
+    @abstractmethod
+    def step(self, n: int = 1) -> None: ...
+
+    def close(self) -> None:  # noqa: B027 - optional hook, nothing to release by default
+        """Release resources."""
+
+    def __enter__(self) -> World:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+class Backend(ABC):
+    """Builds worlds. Registered as a class; `name` is what users select."""
+
+    name: ClassVar[str]
+    summary: ClassVar[str] = ""
+
+    @abstractmethod
+    def create_world(self, config: WorldConfig) -> World: ...

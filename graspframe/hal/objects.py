@@ -1,0 +1,60 @@
+"""Graspable objects: shape, size, mass and friction, with the object frame at the centroid."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+from graspframe.errors import DescriptionError
+
+SHAPES = {
+    "box": ("size_x", "size_y", "size_z"),
+    "cylinder": ("radius", "length"),  # axis along the object's z
+    "sphere": ("radius",),
+}
+
+
+@dataclass(frozen=True)
+class ObjectDescription:
+    """A rigid object on the table.
+
+    shape: "box", "cylinder" (axis along z) or "sphere".
+    dimensions: [m] per shape: box size_x/size_y/size_z, cylinder radius/length,
+        sphere radius.
+    mass: [kg]; static_friction, dynamic_friction: Coulomb coefficients [-].
+    """
+
+    name: str
+    shape: str
+    dimensions: Mapping[str, float]
+    mass: float
+    static_friction: float = 0.8
+    dynamic_friction: float = 0.6
+    restitution: float = 0.0
+    summary: str = ""
+    extras: Mapping[str, object] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.shape not in SHAPES:
+            raise DescriptionError(
+                f"object {self.name!r}: unknown shape {self.shape!r}; "
+                f"shapes are {', '.join(SHAPES)}"
+            )
+        needed = set(SHAPES[self.shape])
+        if set(self.dimensions) != needed:
+            raise DescriptionError(
+                f"object {self.name!r}: a {self.shape} needs dimensions "
+                f"{', '.join(SHAPES[self.shape])}, got {', '.join(self.dimensions) or 'none'}"
+            )
+        if any(not v > 0 for v in self.dimensions.values()) or not self.mass > 0:
+            raise DescriptionError(f"object {self.name!r}: dimensions and mass must be > 0")
+
+    @property
+    def half_height(self) -> float:
+        """Half the extent along the object's z [m] (distance from centroid to table)."""
+        d = self.dimensions
+        if self.shape == "box":
+            return d["size_z"] / 2
+        if self.shape == "cylinder":
+            return d["length"] / 2
+        return d["radius"]

@@ -1,0 +1,64 @@
+"""The graspframe hooks. docs/hooks.md documents each one with its exact signature.
+
+Register hooks receive a `register` callback and call it once per thing they provide;
+the registry checks the type and the name of each thing and records which plugin and
+package provided it. Observer hooks are called for every run; an observer that raises is
+logged and the run goes on (in strict mode the error propagates).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Protocol
+
+import pluggy
+
+if TYPE_CHECKING:
+    from graspframe.events import RunEvent, RunInfo
+
+hookspec = pluggy.HookspecMarker("graspframe")
+
+
+class Register(Protocol):
+    """The callback a register hook receives: call it once per thing provided."""
+
+    def __call__(self, item: Any, /) -> None: ...
+
+
+@hookspec
+def graspframe_register_hands(register: Register) -> None:
+    """Register robot (and human) hands: call `register(hand_description)` for each."""
+
+
+@hookspec
+def graspframe_register_arms(register: Register) -> None:
+    """Register arms: call `register(arm_description)` for each."""
+
+
+@hookspec
+def graspframe_register_backends(register: Register) -> None:
+    """Register backends: call `register(BackendClass)` for each (a `Backend` subclass)."""
+
+
+@hookspec
+def graspframe_register_classifiers(register: Register) -> None:
+    """Register classifiers: call `register(ClassifierClass)` for each."""
+
+
+@hookspec
+def graspframe_register_objects(register: Register) -> None:
+    """Register graspable objects: call `register(object_description)` for each."""
+
+
+@hookspec
+def graspframe_run_started(run: RunInfo) -> None:
+    """A run starts: `run` names it and gives its output directory and parameters."""
+
+
+@hookspec
+def graspframe_run_event(run: RunInfo, event: RunEvent) -> None:
+    """Something happened during `run`: `event` has a kind, a sim_time and data."""
+
+
+@hookspec
+def graspframe_run_finished(run: RunInfo, result: dict) -> None:
+    """`run` ended; `result` is its result dictionary (status "ok" or "failed")."""

@@ -1,0 +1,335 @@
+"""The registry: what the plugins provide, looked up by name.
+
+Plugins are found through the `graspframe` entry-point group, built-in ones exactly like
+third-party ones. Each entry point is loaded on its own and each plugin's register hooks
+are called on their own, so one broken plugin is recorded as failed (shown by
+`graspframe plugins`) instead of taking the program down. Setting
+GRASPFRAME_STRICT_PLUGINS=1 re-raises the first failure instead; GRASPFRAME_DISABLE_PLUGINS
+takes a comma-separated list of plugin names not to load.
+
+Core code asks the registry (`get_hand("karlsruhe")`), never `pm.hook` directly.
+"""
+
+from __future__ import annotations
+
+import functools
+import logging
+import os
+import traceback
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from importlib.metadata import EntryPoint, entry_points
+from types import ModuleType
+from typing import Any
+
+import pluggy
+
+from graspframe.errors import PluginError, UnknownNameError
+from graspframe.events import RunEvent, RunInfo
+from graspframe.hal.classifier import Classifier
+from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.hal.drivers import Backend
+from graspframe.hal.objects import ObjectDescription
+from graspframe.plugins import hookspecs
+
+log = logging.getLogger(__name__)
+
+ENTRY_POINT_GROUP = "graspframe"
+STRICT_ENV = "GRASPFRAME_STRICT_PLUGINS"
+DISABLE_ENV = "GRASPFRAME_DISABLE_PLUGINS"
+
+
+@dataclass(frozen=True)
+class _Kind:
+    """A kind of registrable thing: the hook that registers it and how to validate it."""
+
+    name: str
+    hook: str
+    accepts: Callable[[Any], bool]
+    expected: str
+
+
+KINDS: dict[str, _Kind] = {
+    k.name: k
+    for k in (
+        _Kind(
+            "hand",
+            "graspframe_register_hands",
+            lambda x: isinstance(x, HandDescription),
+            "a HandDescription",
+        ),
+        _Kind(
+            "arm",
+            "graspframe_register_arms",
+            lambda x: isinstance(x, ArmDescription),
+            "an ArmDescription",
+        ),
+        _Kind(
+            "backend",
+            "graspframe_register_backends",
+            lambda x: isinstance(x, type) and issubclass(x, Backend),
+            "a Backend subclass",
+        ),
+        _Kind(
+            "classifier",
+            "graspframe_register_classifiers",
+            lambda x: isinstance(x, type) and issubclass(x, Classifier),
+            "a Classifier subclass",
+        ),
+        _Kind(
+            "object",
+            "graspframe_register_objects",
+            lambda x: isinstance(x, ObjectDescription),
+            "an ObjectDescription",
+        ),
+    )
+}
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One registered thing and where it came from."""
+
+    kind: str
+    name: str
+    item: Any
+    plugin: str
+    package: str
+
+
+@dataclass
+class PluginInfo:
+    """One plugin (an entry point) and what became of it.
+
+    status: "loaded", "failed" or "disabled"; error: one line; details: the traceback.
+    """
+
+    name: str
+    module: str
+    package: str
+    version: str
+    status: str = "loaded"
+    error: str | None = None
+    details: str | None = None
+    provides: list[tuple[str, str]] = field(default_factory=list)  # (kind, name)
+
+
+def _strict_from_env() -> bool:
+    return os.environ.get(STRICT_ENV, "").strip().lower() in {"1", "true", "yes", "on"}
+
+
+def _disabled_from_env() -> set[str]:
+    return {n.strip() for n in os.environ.get(DISABLE_ENV, "").split(",") if n.strip()}
+
+
+def _call(impl: Any, **kwargs: Any) -> Any:
+    """Call one hook implementation with the arguments it declares (pluggy allows a subset)."""
+    return impl.function(*(kwargs[name] for name in impl.argnames))
+
+
+def _one_line(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0] if text else ''}".rstrip(": ")
+
+
+class Registry:
+    """Registered hands, arms, backends, classifiers and objects, with their origin."""
+
+    def __init__(self, strict: bool | None = None):
+        self.strict = _strict_from_env() if strict is None else strict
+        self._pm = pluggy.PluginManager("graspframe")
+        self._pm.add_hookspecs(hookspecs)
+        self._entries: dict[str, dict[str, Entry]] = {kind: {} for kind in KINDS}
+        self.plugins: list[PluginInfo] = []
+
+    # -- loading ---------------------------------------------------------------------------
+
+    @classmethod
+    def from_entry_points(cls, strict: bool | None = None) -> Registry:
+        """Load every plugin of the `graspframe` entry-point group, one at a time."""
+        registry = cls(strict=strict)
+        disabled = _disabled_from_env()
+        for ep in sorted(entry_points(group=ENTRY_POINT_GROUP), key=lambda e: e.name):
+            registry._load_entry_point(ep, disabled)
+        return registry
+
+    def _load_entry_point(self, ep: EntryPoint, disabled: set[str]) -> None:
+        dist = ep.dist
+        info = PluginInfo(
+            name=ep.name,
+            module=ep.value,
+            package=dist.name if dist is not None else "?",
+            version=dist.version if dist is not None else "?",
+        )
+        self.plugins.append(info)
+        if ep.name in disabled:
+            info.status = "disabled"
+            info.error = f"disabled by {DISABLE_ENV}"
+            return
+        try:
+            module = ep.load()
+        except Exception as exc:
+            self._fail(info, exc, "import failed")
+            return
+        self._register_module(info, module)
+
+    def add_plugin(
+        self, name: str, module: ModuleType | object, package: str = "", version: str = ""
+    ) -> PluginInfo:
+        """Register a plugin object directly (tests, notebooks); same checks as entry points."""
+        info = PluginInfo(
+            name=name,
+            module=getattr(module, "__name__", type(module).__name__),
+            package=package or "(added directly)",
+            version=version,
+        )
+        self.plugins.append(info)
+        self._register_module(info, module)
+        return info
+
+    def _register_module(self, info: PluginInfo, module: object) -> None:
+        try:
+            self._pm.register(module, name=info.name)
+            # A hook implementation whose name matches no hookspec (a typo) fails loudly.
+            self._pm.check_pending()
+        except Exception as exc:
+            if self._pm.is_registered(module):
+                self._pm.unregister(module)
+            self._fail(info, exc, "invalid hook implementation")
+            return
+        try:
+            self._collect(info, module)
+        except Exception as exc:
+            self._pm.unregister(module)
+            self._fail(info, exc, "registration failed")
+
+    def _collect(self, info: PluginInfo, module: object) -> None:
+        """Call this plugin's register hooks; add its entries only if all of them succeed."""
+        staged: list[Entry] = []
+        for kind in KINDS.values():
+            for impl in getattr(self._pm.hook, kind.hook).get_hookimpls():
+                if impl.plugin is not module:
+                    continue
+                _call(impl, register=self._stager(kind, info, staged))
+        for entry in staged:
+            self._check_unique(entry)
+        for entry in staged:
+            self._entries[entry.kind][entry.name] = entry
+            info.provides.append((entry.kind, entry.name))
+
+    def _stager(self, kind: _Kind, info: PluginInfo, staged: list[Entry]) -> Callable:
+        def register(item: Any) -> None:
+            if not kind.accepts(item):
+                raise PluginError(
+                    f"plugin {info.name!r} registered {item!r} as a {kind.name}; "
+                    f"expected {kind.expected}"
+                )
+            name = getattr(item, "name", None)
+            if not isinstance(name, str) or not name:
+                raise PluginError(f"plugin {info.name!r} registered a {kind.name} with no name")
+            if any(e.kind == kind.name and e.name == name for e in staged):
+                raise PluginError(f"plugin {info.name!r} registers {kind.name} {name!r} twice")
+            staged.append(Entry(kind.name, name, item, info.name, info.package))
+
+        return register
+
+    def _check_unique(self, entry: Entry) -> None:
+        existing = self._entries[entry.kind].get(entry.name)
+        if existing is not None:
+            raise PluginError(
+                f"{entry.kind} {entry.name!r} from plugin {entry.plugin!r} "
+                f"(package {entry.package}) is already provided by plugin "
+                f"{existing.plugin!r} (package {existing.package}); refusing to replace it"
+            )
+
+    def _fail(self, info: PluginInfo, exc: Exception, what: str) -> None:
+        info.status = "failed"
+        info.error = f"{what}: {_one_line(exc)}"
+        info.details = "".join(traceback.format_exception(exc))
+        log.warning("plugin %r (%s) %s", info.name, info.package, info.error)
+        if self.strict:
+            raise PluginError(f"plugin {info.name!r} ({info.package}): {info.error}") from exc
+
+    # -- lookup ----------------------------------------------------------------------------
+
+    def names(self, kind: str) -> list[str]:
+        return sorted(self._entries[kind])
+
+    def entries(self, kind: str) -> list[Entry]:
+        return [self._entries[kind][n] for n in self.names(kind)]
+
+    def entry(self, kind: str, name: str) -> Entry:
+        try:
+            return self._entries[kind][name]
+        except KeyError:
+            raise UnknownNameError(kind, name, self._entries[kind]) from None
+
+    def get_hand(self, name: str) -> HandDescription:
+        return self.entry("hand", name).item
+
+    def get_arm(self, name: str) -> ArmDescription:
+        return self.entry("arm", name).item
+
+    def get_backend(self, name: str) -> type[Backend]:
+        return self.entry("backend", name).item
+
+    def get_classifier(self, name: str) -> type[Classifier]:
+        return self.entry("classifier", name).item
+
+    def get_object(self, name: str) -> ObjectDescription:
+        return self.entry("object", name).item
+
+    @property
+    def failures(self) -> list[PluginInfo]:
+        return [p for p in self.plugins if p.status == "failed"]
+
+    # -- observers -------------------------------------------------------------------------
+
+    def notify_run_started(self, run: RunInfo) -> None:
+        self._notify("graspframe_run_started", run=run)
+
+    def notify_run_event(self, run: RunInfo, event: RunEvent) -> None:
+        self._notify("graspframe_run_event", run=run, event=event)
+
+    def notify_run_finished(self, run: RunInfo, result: dict) -> None:
+        self._notify("graspframe_run_finished", run=run, result=result)
+
+    def _notify(self, hook: str, **kwargs: Any) -> None:
+        # Called per implementation: a failing observer is logged and the others still run.
+        for impl in getattr(self._pm.hook, hook).get_hookimpls():
+            try:
+                _call(impl, **kwargs)
+            except Exception:
+                if self.strict:
+                    raise
+                log.exception("observer %r failed in %s", impl.plugin_name, hook)
+
+
+@functools.cache
+def default_registry() -> Registry:
+    """The registry of every installed plugin, loaded once per process."""
+    return Registry.from_entry_points()
+
+
+def get_hand(name: str) -> HandDescription:
+    return default_registry().get_hand(name)
+
+
+def get_arm(name: str) -> ArmDescription:
+    return default_registry().get_arm(name)
+
+
+def get_backend(name: str) -> type[Backend]:
+    return default_registry().get_backend(name)
+
+
+def get_classifier(name: str) -> type[Classifier]:
+    return default_registry().get_classifier(name)
+
+
+def get_object(name: str) -> ObjectDescription:
+    return default_registry().get_object(name)
+
+
+def names(kind: str) -> Iterable[str]:
+    return default_registry().names(kind)

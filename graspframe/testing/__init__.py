@@ -1,0 +1,47 @@
+"""Public contract tests for graspframe plugins.
+
+A plugin author checks a plugin from their own test suite:
+
+    from graspframe.testing import assert_hand_contract
+    assert_hand_contract(MY_HAND)
+
+or runs the parametrised contract tests over every installed plugin:
+
+    pytest --pyargs graspframe.testing.contract_tests
+"""
+
+from graspframe.testing.contracts import (
+    arm_problems,
+    classifier_problems,
+    estimate_problems,
+    hand_problems,
+)
+
+
+def _assert_none(what: str, problems: list[str]) -> None:
+    if problems:
+        listing = "\n  - ".join(problems)
+        raise AssertionError(f"{what} breaks the contract:\n  - {listing}")
+
+
+def assert_hand_contract(hand) -> None:
+    _assert_none(f"hand {hand.name!r}", hand_problems(hand))
+
+
+def assert_arm_contract(arm) -> None:
+    _assert_none(f"arm {arm.name!r}", arm_problems(arm))
+
+
+def assert_classifier_contract(classifier_cls) -> None:
+    _assert_none(f"classifier {classifier_cls.name!r}", classifier_problems(classifier_cls))
+
+
+__all__ = [
+    "arm_problems",
+    "assert_arm_contract",
+    "assert_classifier_contract",
+    "assert_hand_contract",
+    "classifier_problems",
+    "estimate_problems",
+    "hand_problems",
+]

@@ -1,0 +1,110 @@
+"""Poses and rotations: the one module that converts between representations.
+
+Convention: `T_a_b` is the 4x4 homogeneous pose of frame b expressed in frame a (it maps
+points given in b into a), so poses compose by cancelling inner letters:
+`T_world_palm = T_world_flange @ T_flange_palm`. Quaternions are always named by their
+component order: `quat_wxyz` (SAPIEN) or `quat_xyzw` (Pinocchio, rerun, scipy).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
+
+from graspframe.errors import GraspframeError
+
+Mat4 = NDArray[np.float64]
+Mat3 = NDArray[np.float64]
+Vec3 = NDArray[np.float64]
+
+
+def make_T(R: ArrayLike | None = None, p: ArrayLike | None = None) -> Mat4:
+    """Homogeneous pose from a rotation matrix R (3x3) and a translation p (3,) [m]."""
+    T = np.eye(4)
+    if R is not None:
+        T[:3, :3] = np.asarray(R, dtype=float).reshape(3, 3)
+    if p is not None:
+        T[:3, 3] = np.asarray(p, dtype=float).reshape(3)
+    return T
+
+
+def inv_T(T_a_b: ArrayLike) -> Mat4:
+    """T_b_a from T_a_b, using the rotation's transpose (no general matrix inverse)."""
+    T_a_b = np.asarray(T_a_b, dtype=float)
+    R = T_a_b[:3, :3]
+    T_b_a = np.eye(4)
+    T_b_a[:3, :3] = R.T
+    T_b_a[:3, 3] = -R.T @ T_a_b[:3, 3]
+    return T_b_a
+
+
+def transform_points(T_a_b: ArrayLike, p_b: ArrayLike) -> NDArray[np.float64]:
+    """Points p_b (N,3) or (3,) given in frame b, expressed in frame a."""
+    T_a_b = np.asarray(T_a_b, dtype=float)
+    p_b = np.asarray(p_b, dtype=float)
+    return p_b @ T_a_b[:3, :3].T + T_a_b[:3, 3]
+
+
+def rotate_vectors(T_or_R_a_b: ArrayLike, v_b: ArrayLike) -> NDArray[np.float64]:
+    """Direction vectors v_b (N,3) or (3,) rotated into frame a (no translation)."""
+    M = np.asarray(T_or_R_a_b, dtype=float)
+    return np.asarray(v_b, dtype=float) @ M[:3, :3].T
+
+
+def quat_wxyz_to_xyzw(quat_wxyz: ArrayLike) -> NDArray[np.float64]:
+    w, x, y, z = np.asarray(quat_wxyz, dtype=float)
+    return np.array([x, y, z, w])
+
+
+def quat_xyzw_to_wxyz(quat_xyzw: ArrayLike) -> NDArray[np.float64]:
+    x, y, z, w = np.asarray(quat_xyzw, dtype=float)
+    return np.array([w, x, y, z])
+
+
+def R_from_quat_xyzw(quat_xyzw: ArrayLike) -> Mat3:
+    return Rotation.from_quat(np.asarray(quat_xyzw, dtype=float)).as_matrix()
+
+
+def R_from_quat_wxyz(quat_wxyz: ArrayLike) -> Mat3:
+    return R_from_quat_xyzw(quat_wxyz_to_xyzw(quat_wxyz))
+
+
+def quat_xyzw_from_R(R: ArrayLike) -> NDArray[np.float64]:
+    return Rotation.from_matrix(np.asarray(R, dtype=float)).as_quat()
+
+
+def quat_wxyz_from_R(R: ArrayLike) -> NDArray[np.float64]:
+    return quat_xyzw_to_wxyz(quat_xyzw_from_R(R))
+
+
+def R_from_rpy(roll: float, pitch: float, yaw: float) -> Mat3:
+    """URDF convention: fixed-axis X-Y-Z rotations, R = Rz(yaw) Ry(pitch) Rx(roll)."""
+    return Rotation.from_euler("xyz", [roll, pitch, yaw]).as_matrix()
+
+
+def rpy_from_R(R: ArrayLike) -> NDArray[np.float64]:
+    """Inverse of `R_from_rpy`: (roll, pitch, yaw) [rad]."""
+    return Rotation.from_matrix(np.asarray(R, dtype=float)).as_euler("xyz")
+
+
+def rotation_angle(R_a: ArrayLike, R_b: ArrayLike) -> float:
+    """Angle [rad] of the rotation taking R_a to R_b (0..pi)."""
+    R_rel = np.asarray(R_a, dtype=float)[:3, :3].T @ np.asarray(R_b, dtype=float)[:3, :3]
+    cos_angle = np.clip((np.trace(R_rel) - 1.0) / 2.0, -1.0, 1.0)
+    return float(np.arccos(cos_angle))
+
+
+def as_pose(T: ArrayLike, what: str = "pose") -> Mat4:
+    """Validate a 4x4 rigid transform (orthonormal rotation, last row 0 0 0 1)."""
+    T = np.asarray(T, dtype=float)
+    if T.shape != (4, 4):
+        raise GraspframeError(f"{what} must be a 4x4 matrix, got shape {T.shape}")
+    if not np.all(np.isfinite(T)):
+        raise GraspframeError(f"{what} contains NaN or infinite values")
+    if not np.allclose(T[3], [0.0, 0.0, 0.0, 1.0], atol=1e-9):
+        raise GraspframeError(f"{what} last row must be [0, 0, 0, 1], got {T[3].tolist()}")
+    R = T[:3, :3]
+    if not np.allclose(R.T @ R, np.eye(3), atol=1e-6) or np.linalg.det(R) < 0:
+        raise GraspframeError(f"{what} rotation part is not a proper rotation matrix")
+    return T
