@@ -26,6 +26,7 @@ import pluggy
 
 from graspframe.errors import PluginError, UnknownNameError
 from graspframe.events import RunEvent, RunInfo
+from graspframe.grasps import HumanGrasp
 from graspframe.hal.classifier import Classifier
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.drivers import Backend
@@ -278,6 +279,15 @@ class Registry:
 
     def get_object(self, name: str) -> ObjectDescription:
         return self.entry("object", name).item
+
+    def default_object_for(self, grasp: HumanGrasp) -> ObjectDescription:
+        """The registered object that is the default for a human grasp."""
+        for entry in self.entries("object"):
+            if grasp in entry.item.default_for:
+                return entry.item
+        raise UnknownNameError(
+            f"default object for {grasp.value}", grasp.value, self.names("object")
+        )
 
     @property
     def failures(self) -> list[PluginInfo]:

@@ -63,6 +63,10 @@ def _broken_cases(urdf):
         ),
         "sensor off the palm": ({"palm_sensor_link": "fk_finger"}, "is not a link of the palm"),
         "missing model": ({"model_path": urdf.parent / "missing.urdf"}, "model file not found"),
+        "palm frame pointing into the palm": (
+            {"palm_frame": "fk_base"},
+            "not on the palm surface",
+        ),
     }
 
 
@@ -81,6 +85,7 @@ def _broken_cases(urdf):
         "delta in mm",
         "sensor off the palm",
         "missing model",
+        "palm frame pointing into the palm",
     ],
 )
 def test_each_defect_is_named(case, fake_hand_urdf):

@@ -2,6 +2,7 @@
 
 from graspframe.testing.contract_tests import (  # noqa: F401 - collected by pytest
     test_arm_contract,
+    test_backend_contract,
     test_classifier_contract,
     test_hand_contract,
     test_no_plugin_failed_to_load,

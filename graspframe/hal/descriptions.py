@@ -48,6 +48,9 @@ class Coupling:
     in_model: True when the URDF itself declares the coupling as a <mimic> joint (the
     simulator enforces it); False when the hand's controller enforces it, as for the
     Barrett distal joints whose coupling breaks away under contact torque.
+    breakaway_torque: [N m] for controller couplings: when closing and the leader's drive
+    torque exceeds it, the leader stops where it is (held, as by the Barrett's worm gear)
+    and only the follower keeps closing. None: the coupling never breaks.
     """
 
     follower: str
@@ -55,6 +58,7 @@ class Coupling:
     multiplier: float
     offset: float = 0.0
     in_model: bool = True
+    breakaway_torque: float | None = None
 
 
 @dataclass(frozen=True)
@@ -144,6 +148,15 @@ class HandDescription:
                 f"it maps: {', '.join(g.value for g in self.grasp_map)}"
             )
         return self.preshape(self.grasp_map[grasp])
+
+    def with_model_followers(self, q_by_joint: Mapping[str, float]) -> dict[str, float]:
+        """`q_by_joint` plus the followers of in-model (<mimic>) couplings [rad], for tools
+        that read the URDF without mimic support (each follower is a joint there)."""
+        full = dict(q_by_joint)
+        for c in self.couplings:
+            if c.in_model and c.leader in full:
+                full[c.follower] = c.multiplier * full[c.leader] + c.offset
+        return full
 
     def finger_of_link(self) -> dict[str, str]:
         """link name -> real finger name."""

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from graspframe.errors import DescriptionError
+from graspframe.grasps import HumanGrasp
 
 SHAPES = {
     "box": ("size_x", "size_y", "size_z"),
@@ -22,6 +24,7 @@ class ObjectDescription:
     dimensions: [m] per shape: box size_x/size_y/size_z, cylinder radius/length,
         sphere radius.
     mass: [kg]; static_friction, dynamic_friction: Coulomb coefficients [-].
+    default_for: the human grasps for which this is the default object.
     """
 
     name: str
@@ -31,6 +34,7 @@ class ObjectDescription:
     static_friction: float = 0.8
     dynamic_friction: float = 0.6
     restitution: float = 0.0
+    default_for: frozenset[HumanGrasp] = frozenset()
     summary: str = ""
     extras: Mapping[str, object] = field(default_factory=dict)
 
@@ -48,6 +52,26 @@ class ObjectDescription:
             )
         if any(not v > 0 for v in self.dimensions.values()) or not self.mass > 0:
             raise DescriptionError(f"object {self.name!r}: dimensions and mass must be > 0")
+
+    @property
+    def largest_dimension(self) -> float:
+        """[m] the largest extent of the object."""
+        d = self.dimensions
+        if self.shape == "box":
+            return max(d.values())
+        if self.shape == "cylinder":
+            return max(2 * d["radius"], d["length"])
+        return 2 * d["radius"]
+
+    @property
+    def volume(self) -> float:
+        """[m^3]"""
+        d = self.dimensions
+        if self.shape == "box":
+            return d["size_x"] * d["size_y"] * d["size_z"]
+        if self.shape == "cylinder":
+            return math.pi * d["radius"] ** 2 * d["length"]
+        return 4.0 / 3.0 * math.pi * d["radius"] ** 3
 
     @property
     def half_height(self) -> float:

@@ -12,9 +12,11 @@ or runs the parametrised contract tests over every installed plugin:
 
 from graspframe.testing.contracts import (
     arm_problems,
+    backend_problems,
     classifier_problems,
     estimate_problems,
     hand_problems,
+    palm_direction_problems,
 )
 
 
@@ -32,6 +34,11 @@ def assert_arm_contract(arm) -> None:
     _assert_none(f"arm {arm.name!r}", arm_problems(arm))
 
 
+def assert_backend_contract(backend_cls, hand, arm, obj) -> None:
+    """`hand`, `arm`, `obj`: descriptions to build the test worlds with."""
+    _assert_none(f"backend {backend_cls.name!r}", backend_problems(backend_cls, hand, arm, obj))
+
+
 def assert_classifier_contract(classifier_cls) -> None:
     _assert_none(f"classifier {classifier_cls.name!r}", classifier_problems(classifier_cls))
 
@@ -39,9 +46,12 @@ def assert_classifier_contract(classifier_cls) -> None:
 __all__ = [
     "arm_problems",
     "assert_arm_contract",
+    "assert_backend_contract",
     "assert_classifier_contract",
     "assert_hand_contract",
+    "backend_problems",
     "classifier_problems",
     "estimate_problems",
     "hand_problems",
+    "palm_direction_problems",
 ]

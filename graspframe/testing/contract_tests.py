@@ -10,6 +10,7 @@ import pytest
 from graspframe.registry import default_registry
 from graspframe.testing import (
     assert_arm_contract,
+    assert_backend_contract,
     assert_classifier_contract,
     assert_hand_contract,
 )
@@ -37,3 +38,22 @@ def test_arm_contract(arm_name):
 @pytest.mark.parametrize("classifier_name", _names("classifier"))
 def test_classifier_contract(classifier_name):
     assert_classifier_contract(default_registry().get_classifier(classifier_name))
+
+
+def _first(kind: str, preferred: str) -> str | None:
+    names = _names(kind)
+    return preferred if preferred in names else (names[0] if names else None)
+
+
+@pytest.mark.parametrize("backend_name", _names("backend"))
+def test_backend_contract(backend_name):
+    registry = default_registry()
+    hand, arm, obj = _first("hand", "barrett"), _first("arm", "kuka"), _first("object", "")
+    if None in (hand, arm, obj):
+        pytest.skip("a backend is checked with a registered hand, arm and object")
+    assert_backend_contract(
+        registry.get_backend(backend_name),
+        registry.get_hand(hand),
+        registry.get_arm(arm),
+        registry.get_object(obj),
+    )

@@ -15,13 +15,17 @@ from graspframe.errors import GraspframeError
 from graspframe.grasps import PALM, HumanGrasp
 from graspframe.hal.classifier import Classifier, HumanGraspEstimate
 from graspframe.hal.descriptions import ArmDescription, DriveGains, HandDescription, JointSpec
-from graspframe.robot_model import summarize_urdf
+from graspframe.robot_model import CollisionModel, summarize_urdf
 
 NAME_PATTERN = re.compile(r"^[a-z][a-z0-9_]*$")
 # URDF limits are written with limited precision; a description derived from the same
 # numbers in degrees may differ in the last digits.
 LIMIT_TOLERANCE = 1e-4  # [rad]
 MAX_DELTA = 0.5  # [m] a palm-to-fingertip distance beyond this is surely a unit mistake
+# Probe points along the palm normal: in front of the palm surface must be free space,
+# just behind it must be inside the palm body.
+PALM_PROBE_OUT = 0.02  # [m]
+PALM_PROBE_IN = 0.01  # [m]
 
 
 def _name_problems(kind: str, name: str) -> list[str]:
@@ -159,7 +163,36 @@ def hand_problems(hand: HandDescription) -> list[str]:
     links += [
         (f"link of real finger {f!r}", link) for f, ls in hand.real_fingers.items() for link in ls
     ]
-    problems += _model_problems(hand.model_path, hand.joints, links)
+    model_problems = _model_problems(hand.model_path, hand.joints, links)
+    problems += model_problems
+    if not model_problems:
+        problems += palm_direction_problems(hand)
+    return problems
+
+
+def palm_direction_problems(hand: HandDescription) -> list[str]:
+    """The palm frame's +z must point out of the palm: a point PALM_PROBE_OUT in front of
+    the palm surface is in free space, a point PALM_PROBE_IN behind it is in a palm link."""
+    try:
+        model = CollisionModel(hand.model_path)
+    except GraspframeError as exc:
+        return [str(exc)]
+    T_root_palm = model.T_root_frame(hand.palm_frame)
+    origin, z_axis = T_root_palm[:3, 3], T_root_palm[:3, 2]
+    in_front = model.links_containing(origin + PALM_PROBE_OUT * z_axis)
+    behind = model.links_containing(origin - PALM_PROBE_IN * z_axis)
+    palm_links = set(hand.real_fingers.get(PALM, ()))
+    problems = []
+    if in_front:
+        problems.append(
+            f"palm frame +z points into the hand: {PALM_PROBE_OUT * 100:g} cm along +z lies "
+            f"inside {', '.join(in_front)} (+z must point out of the palm, towards the object)"
+        )
+    if not palm_links.intersection(behind):
+        problems.append(
+            f"palm frame is not on the palm surface: {PALM_PROBE_IN * 100:g} cm along -z is "
+            "not inside a palm link (put the origin on the palm surface, +z outwards)"
+        )
     return problems
 
 
@@ -219,4 +252,75 @@ def estimate_problems(estimate: HumanGraspEstimate) -> list[str]:
     R = np.asarray(estimate.R_cam_hand, dtype=float)
     if R.shape != (3, 3) or not np.allclose(R.T @ R, np.eye(3), atol=1e-6):
         problems.append("R_cam_hand is not a 3x3 rotation matrix")
+    return problems
+
+
+BACKEND_TRACKING_TOL = np.radians(0.5)  # [rad] arm joints must hold home this closely
+FREE_POSE_TOL = 1e-3  # [m] a free-floating hand must be placed this closely
+
+
+def backend_problems(backend_cls, hand, arm, obj) -> list[str]:
+    """A backend must build worlds (mounted and free-floating) whose drivers behave."""
+    from graspframe.contacts import Contact, PalmSensorReading
+    from graspframe.hal.drivers import WorldConfig
+    from graspframe.transforms import make_T
+
+    problems = _name_problems("backend", getattr(backend_cls, "name", ""))
+    try:
+        backend = backend_cls()
+    except Exception as exc:
+        return [*problems, f"cannot be built with no arguments: {type(exc).__name__}: {exc}"]
+    # The object 0.5 m in front of the arm, resting on the table (top at z = 0).
+    T_world_object = make_T(p=[0.5, 0.0, obj.half_height])
+    config = WorldConfig(hand=hand, arm=arm, object=obj, T_world_object=T_world_object)
+    try:
+        world = backend.create_world(config)
+    except Exception as exc:
+        return [*problems, f"create_world failed: {type(exc).__name__}: {exc}"]
+    with world:
+        if world.arm is None or tuple(world.arm.joint_names) != arm.joint_names:
+            problems.append("the arm driver's joints differ from the arm description's")
+        if set(world.hand.joint_names) != set(hand.joint_names):
+            problems.append("the hand driver's joints differ from the hand description's")
+        t0 = world.time
+        world.step(10)
+        if abs(world.time - t0 - 10 * world.timestep) > 1e-9:
+            problems.append("time does not advance by timestep per step")
+        world.arm.set_joint_targets(np.asarray(arm.home_q))
+        world.step(max(1, round(0.5 / world.timestep)))
+        error = np.abs(world.arm.joint_positions() - np.asarray(arm.home_q)).max()
+        if error > BACKEND_TRACKING_TOL:
+            problems.append(
+                f"arm does not hold its home configuration: {np.degrees(error):.2f} deg off"
+            )
+        try:
+            world.arm.set_joint_targets(np.zeros(arm.dof + 1))
+            problems.append("arm targets of the wrong length were accepted")
+        except GraspframeError:
+            pass
+        contacts = world.hand.contacts()
+        if not isinstance(contacts, list) or not all(isinstance(c, Contact) for c in contacts):
+            problems.append("contacts() must return a list of Contact")
+        if not isinstance(world.hand.palm_sensor(), PalmSensorReading):
+            problems.append("palm_sensor() must return a PalmSensorReading")
+        T_world_palm = np.asarray(world.hand.T_world_palm())
+        if T_world_palm.shape != (4, 4):
+            problems.append("T_world_palm() must return a 4x4 pose")
+        if (
+            world.object is None
+            or np.linalg.norm(world.object.T_world_object()[:3, 3] - T_world_object[:3, 3]) > 0.01
+        ):
+            problems.append("the object is not where the configuration put it")
+
+    free_config = WorldConfig(hand=hand, arm=None, object=None)
+    try:
+        with backend.create_world(free_config) as free_world:
+            T_target = make_T(p=[0.1, -0.2, 0.5])
+            free_world.hand.set_free_pose(T_target)
+            free_world.step(1)
+            placed = free_world.hand.T_world_palm()[:3, 3]
+            if np.linalg.norm(placed - T_target[:3, 3]) > FREE_POSE_TOL:
+                problems.append("set_free_pose does not place a free-floating hand's palm")
+    except Exception as exc:
+        problems.append(f"free-floating world failed: {type(exc).__name__}: {exc}")
     return problems

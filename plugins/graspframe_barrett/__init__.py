@@ -1,1 +1,1 @@
-"""Built-in graspframe plugin: barrett."""
+"""graspframe plugin: the Barrett BH8-280 hand (description and URDF model)."""

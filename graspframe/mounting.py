@@ -1,0 +1,132 @@
+"""Mount any hand on any arm's flange: one combined URDF for Pinocchio and the simulator.
+
+The hand's root link is fixed to the arm's flange link by a fixed joint whose origin is
+`T_flange_hand`. The combined file is written once per distinct content into a cache
+folder (GRASPFRAME_CACHE_DIR, default ~/.cache/graspframe) and reused afterwards.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from graspframe.errors import DescriptionError
+from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.transforms import as_pose, rpy_from_R
+
+CACHE_ENV = "GRASPFRAME_CACHE_DIR"
+
+
+def cache_dir() -> Path:
+    """Folder for generated files (combined models); created on demand."""
+    default = Path.home() / ".cache" / "graspframe"
+    path = Path(os.environ.get(CACHE_ENV, default)) / "models"
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+@dataclass(frozen=True)
+class MountedRobot:
+    """A hand fixed to an arm's flange.
+
+    urdf_path: the combined model (arm links, then hand links, one fixed mount joint).
+    T_flange_hand: pose of the hand's root link in the flange frame.
+    """
+
+    arm: ArmDescription
+    hand: HandDescription
+    urdf_path: Path
+    mount_joint: str
+    T_flange_hand: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
+
+    @property
+    def name(self) -> str:
+        return f"{self.arm.name}+{self.hand.name}"
+
+
+def _parse(path: Path) -> ET.Element:
+    try:
+        root = ET.parse(path).getroot()
+    except (OSError, ET.ParseError) as exc:
+        raise DescriptionError(f"cannot read URDF {path}: {exc}") from exc
+    if root.tag != "robot":
+        raise DescriptionError(f"{path} is not a URDF (root element <{root.tag}>)")
+    return root
+
+
+def _absolute_meshes(robot: ET.Element, source: Path) -> None:
+    """Mesh file names relative to the source URDF become absolute."""
+    for mesh in robot.iter("mesh"):
+        filename = mesh.get("filename", "")
+        if filename.startswith("package://"):
+            raise DescriptionError(
+                f"{source.name}: package:// mesh paths are not supported; use paths relative "
+                "to the URDF file"
+            )
+        if filename and not Path(filename).is_absolute():
+            mesh.set("filename", str((source.parent / filename).resolve()))
+
+
+def combined_urdf_text(
+    arm: ArmDescription, hand: HandDescription, T_flange_hand: NDArray[np.float64]
+) -> tuple[str, str]:
+    """(URDF text of hand-on-arm, name of the mount joint)."""
+    arm_root, hand_root = _parse(Path(arm.model_path)), _parse(Path(hand.model_path))
+    _absolute_meshes(arm_root, Path(arm.model_path))
+    _absolute_meshes(hand_root, Path(hand.model_path))
+
+    def names(root: ET.Element, tag: str) -> set[str]:
+        return {element.get("name", "") for element in root.findall(tag)}
+
+    clashes = (names(arm_root, "link") & names(hand_root, "link")) | (
+        names(arm_root, "joint") & names(hand_root, "joint")
+    )
+    if clashes:
+        raise DescriptionError(
+            f"arm {arm.name!r} and hand {hand.name!r} share link/joint names: "
+            f"{', '.join(sorted(clashes))}; prefix them per robot"
+        )
+    if arm.flange_link not in names(arm_root, "link"):
+        raise DescriptionError(f"arm {arm.name!r}: flange link {arm.flange_link!r} not in model")
+    if hand.root_link not in names(hand_root, "link"):
+        raise DescriptionError(f"hand {hand.name!r}: root link {hand.root_link!r} not in model")
+
+    combined = ET.Element("robot", {"name": f"{arm.name}_{hand.name}"})
+    for source in (arm_root, hand_root):
+        for element in source:
+            if element.tag in ("link", "joint"):
+                combined.append(element)
+    mount_joint = f"mount_{arm.name}_{hand.name}"
+    joint = ET.SubElement(combined, "joint", {"name": mount_joint, "type": "fixed"})
+    ET.SubElement(joint, "parent", {"link": arm.flange_link})
+    ET.SubElement(joint, "child", {"link": hand.root_link})
+    xyz = " ".join(f"{v:.9g}" for v in T_flange_hand[:3, 3])
+    rpy = " ".join(f"{v:.9g}" for v in rpy_from_R(T_flange_hand[:3, :3]))
+    ET.SubElement(joint, "origin", {"xyz": xyz, "rpy": rpy})
+    ET.indent(combined)
+    text = '<?xml version="1.0"?>\n' + ET.tostring(combined, encoding="unicode") + "\n"
+    return text, mount_joint
+
+
+def mount(
+    arm: ArmDescription,
+    hand: HandDescription,
+    T_flange_hand: NDArray[np.float64] | None = None,
+) -> MountedRobot:
+    """Fix `hand` to `arm`'s flange (identity by default) and write the combined model."""
+    T_flange_hand = as_pose(np.eye(4) if T_flange_hand is None else T_flange_hand, "T_flange_hand")
+    text, mount_joint = combined_urdf_text(arm, hand, T_flange_hand)
+    digest = hashlib.sha256(text.encode()).hexdigest()[:16]
+    path = cache_dir() / f"{arm.name}_{hand.name}_{digest}.urdf"
+    if not path.exists():
+        # Write then rename, so a concurrent process never reads a half-written file.
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_text(text)
+        tmp.replace(path)
+    return MountedRobot(arm, hand, path, mount_joint, T_flange_hand)

@@ -1,0 +1,76 @@
+"""KUKA KR 5 sixx R850: joint limits, home pose and drive gains, in SI units.
+
+Joint angles are KUKA's axis values A1..A6 (0 = the pose of the modified-DH table: upper
+arm and forearm stretched forward horizontally). Numbers come from ROBOTS.md ("KUKA KR 5
+sixx R850"); where it is silent the value is OUR ASSUMPTION, marked so. The URDF
+generator (tools/robot_models/kuka.py) reads the joint limits from `JOINTS` here, so the
+model and the description cannot disagree. docs/robots/kuka.md tabulates every number.
+"""
+
+from __future__ import annotations
+
+import math
+
+from graspframe.hal.descriptions import ArmDescription, DriveGains, JointSpec
+
+NAME = "kuka"
+MODEL_FILE = "kuka/kuka.urdf"
+BASE_LINK = "kr5_base"
+FLANGE_LINK = "kr5_flange"
+PAYLOAD = 5.0  # [kg] ROBOTS.md
+
+# name, lower [deg], upper [deg] (ROBOTS.md DH table), max speed [deg/s] (ROBOTS.md, the
+# R650 figures: the R850's are not given), max torque [N m] (assumption: about twice the
+# static torque of the stretched arm with 5 kg payload, see docs/robots/kuka.md).
+_JOINT_TABLE = (
+    ("kr5_a1", -170.0, 170.0, 375.0, 150.0),
+    ("kr5_a2", -190.0, 45.0, 300.0, 200.0),
+    ("kr5_a3", -119.0, 165.0, 375.0, 100.0),
+    ("kr5_a4", -190.0, 190.0, 410.0, 25.0),
+    ("kr5_a5", -120.0, 120.0, 410.0, 25.0),
+    ("kr5_a6", -358.0, 358.0, 660.0, 15.0),
+)
+# Assumptions (ROBOTS.md gives no acceleration or jerk): full speed in 0.4 s, full
+# acceleration in 0.1 s; conservative for trajectory generation.
+ACCELERATION_PER_VELOCITY = 2.5  # [1/s]
+JERK_PER_ACCELERATION = 10.0  # [1/s]
+
+JOINTS = tuple(
+    JointSpec(
+        name=name,
+        lower=math.radians(lower_deg),
+        upper=math.radians(upper_deg),
+        max_velocity=math.radians(speed_deg_s),
+        max_effort=effort,
+        max_acceleration=ACCELERATION_PER_VELOCITY * math.radians(speed_deg_s),
+        max_jerk=JERK_PER_ACCELERATION * ACCELERATION_PER_VELOCITY * math.radians(speed_deg_s),
+    )
+    for name, lower_deg, upper_deg, speed_deg_s, effort in _JOINT_TABLE
+)
+
+# Elbow up, flange pointing straight down 0.50 m in front of the base at 0.38 m height,
+# A2 + A3 + A5 = 90 deg (so the flange is vertical). Checked in tests/test_robot_kuka.py.
+HOME_Q_DEG = (0.0, -77.3, 123.6, 0.0, 43.7, 0.0)
+HOME_Q = tuple(math.radians(q) for q in HOME_Q_DEG)
+
+# Assumption: a stiff, well-damped position drive (the simulator backend may tune it).
+# Overdamped: damping ratio about 1.9 (A1) and 1.6 (A2) at home (joint inertia 1.4 and
+# 1.9 kg m^2), more on the light wrist joints, so targets are reached without overshoot.
+DRIVE = DriveGains(stiffness=5.0e4, damping=1.0e3, force_limit=max(e for *_, e in _JOINT_TABLE))
+
+
+def arm_description() -> ArmDescription:
+    """The KR 5 sixx description (needs the generated URDF in robots/kuka/)."""
+    from graspframe_robots import model_path
+
+    return ArmDescription(
+        name=NAME,
+        model_path=model_path(MODEL_FILE),
+        base_link=BASE_LINK,
+        flange_link=FLANGE_LINK,
+        joints=JOINTS,
+        home_q=HOME_Q,
+        drive=DRIVE,
+        payload=PAYLOAD,
+        summary="KUKA KR 5 sixx R850, 6 DOF industrial arm, 850 mm reach, 5 kg payload",
+    )

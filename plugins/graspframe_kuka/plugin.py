@@ -1,0 +1,9 @@
+"""Registers the KUKA KR 5 sixx R850 arm."""
+
+from graspframe.plugins import hookimpl
+from graspframe_kuka.description import arm_description
+
+
+@hookimpl
+def graspframe_register_arms(register):
+    register(arm_description())

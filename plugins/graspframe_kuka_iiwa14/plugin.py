@@ -1,0 +1,9 @@
+"""Registers the KUKA LBR iiwa 14 R820 arm."""
+
+from graspframe.plugins import hookimpl
+from graspframe_kuka_iiwa14.description import arm_description
+
+
+@hookimpl
+def graspframe_register_arms(register):
+    register(arm_description())

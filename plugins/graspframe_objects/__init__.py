@@ -1,0 +1,1 @@
+"""Built-in graspframe plugin: the default graspable objects, one per human grasp."""

@@ -1,0 +1,1 @@
+"""Built-in graspframe plugin: the SAPIEN physics backend (CPU physics, no renderer)."""

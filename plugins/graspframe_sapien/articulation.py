@@ -1,0 +1,93 @@
+"""Loading a URDF into a SAPIEN physics-only scene and driving its joints.
+
+SAPIEN's renderer needs a GPU, so scenes hold only a PhysX CPU system and models are
+collision-only. <mimic> joints are enforced by SAPIEN's loader; their followers must have
+no drive of their own, or the drive fights the coupling.
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+import sapien
+
+from graspframe.errors import DescriptionError
+from graspframe.hal.descriptions import DriveGains
+
+# Collision group bit that, with the same g3 id, stops a robot's links colliding with
+# each other: shapes A and B collide iff ((A.g0 & B.g1) or (A.g1 & B.g0)) and not
+# ((A.g2 & B.g2) and A.g3 == B.g3). Self-collision adds nothing to grasping here and
+# overlapping link shapes at joints would otherwise jitter.
+NO_SELF_COLLISION_BIT = 1 << 30
+
+
+def create_scene(timestep: float) -> sapien.Scene:
+    """A physics-only scene (no renderer) with the given step [s]."""
+    scene = sapien.Scene([sapien.physx.PhysxCpuSystem()])
+    scene.set_timestep(timestep)
+    return scene
+
+
+def mimic_followers(urdf_path: Path | str) -> dict[str, tuple[str, float, float]]:
+    """follower joint -> (leader, multiplier, offset) for every <mimic> in a URDF."""
+    followers = {}
+    for joint in ET.parse(urdf_path).getroot().iter("joint"):
+        mimic = joint.find("mimic")
+        if mimic is not None:
+            followers[joint.get("name")] = (
+                mimic.get("joint"),
+                float(mimic.get("multiplier", 1.0)),
+                float(mimic.get("offset", 0.0)),
+            )
+    return followers
+
+
+def load_articulation(
+    scene: sapien.Scene, urdf_path: Path | str, fix_root: bool, robot_id: int = 1
+) -> sapien.physx.PhysxArticulation:
+    """Load a collision-only URDF as one articulation without self-collision."""
+    loader = scene.create_urdf_loader()
+    loader.fix_root_link = fix_root
+    try:
+        articulation = loader.load(str(urdf_path))
+    except Exception as exc:
+        raise DescriptionError(f"SAPIEN cannot load {Path(urdf_path).name}: {exc}") from exc
+    if articulation is None:
+        raise DescriptionError(f"SAPIEN loaded no articulation from {Path(urdf_path).name}")
+    for link in articulation.get_links():
+        for shape in link.get_collision_shapes():
+            g0, g1, g2, _ = shape.get_collision_groups()
+            shape.set_collision_groups([g0, g1, g2 | NO_SELF_COLLISION_BIT, robot_id])
+    return articulation
+
+
+def active_joints(articulation) -> dict[str, object]:
+    """Active joint name -> joint, in articulation order."""
+    return {joint.name: joint for joint in articulation.get_active_joints()}
+
+
+def configure_drives(
+    articulation,
+    gains_by_joint: Mapping[str, DriveGains],
+    followers: Mapping[str, object],
+) -> None:
+    """PD drives on the named joints; mimic followers get none (the coupling moves them)."""
+    joints = active_joints(articulation)
+    for name, gains in gains_by_joint.items():
+        if name not in joints:
+            raise DescriptionError(f"joint {name!r} is not an active joint of the articulation")
+        if name in followers:
+            continue
+        joints[name].set_drive_property(gains.stiffness, gains.damping, gains.force_limit)
+
+
+def set_qpos_by_name(articulation, q_by_joint: Mapping[str, float]) -> None:
+    """Teleport joints to positions [rad] (followers of <mimic> included by the caller)."""
+    names = list(active_joints(articulation))
+    qpos = np.array(articulation.get_qpos(), dtype=float)
+    for name, value in q_by_joint.items():
+        qpos[names.index(name)] = value
+    articulation.set_qpos(qpos)

@@ -1,0 +1,216 @@
+"""Arm, hand and object handles on a SAPIEN articulation (the driver interfaces)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from graspframe.contacts import Contact, PalmSensorReading
+from graspframe.errors import GraspframeError, UnknownNameError
+from graspframe.hal.descriptions import HandDescription
+from graspframe.hal.drivers import ArmDriver, HandDriver, ObjectProbe
+from graspframe.robot_model import CollisionModel
+from graspframe.transforms import inv_T
+from graspframe_sapien.articulation import active_joints
+from graspframe_sapien.contacts import read_contacts
+from graspframe_sapien.poses import to_pose, to_T
+
+# While a breakaway holds a leader joint, its drive is this much stiffer (the Barrett's
+# proximal link is held by a worm gear, which the finger's load cannot back-drive).
+HOLD_STIFFNESS_FACTOR = 20.0
+
+
+class _JointAccess:
+    """Positions, velocities and drive targets of named joints of one articulation."""
+
+    def __init__(self, articulation, names: Sequence[str]):
+        self.articulation = articulation
+        joints = active_joints(articulation)
+        order = list(joints)
+        missing = [n for n in names if n not in joints]
+        if missing:
+            raise UnknownNameError("articulation joint", missing[0], order)
+        self.names = tuple(names)
+        self.joints = [joints[n] for n in names]
+        self.index = np.array([order.index(n) for n in names])
+
+    def positions(self) -> NDArray[np.float64]:
+        return np.asarray(self.articulation.get_qpos(), dtype=float)[self.index]
+
+    def velocities(self) -> NDArray[np.float64]:
+        return np.asarray(self.articulation.get_qvel(), dtype=float)[self.index]
+
+
+class SapienArmDriver(ArmDriver):
+    def __init__(self, articulation, joint_names: Sequence[str]):
+        self._access = _JointAccess(articulation, joint_names)
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        return self._access.names
+
+    def set_joint_targets(self, q, qd=None) -> None:
+        q = np.asarray(q, dtype=float)
+        if q.shape != (len(self.joint_names),) or not np.all(np.isfinite(q)):
+            raise GraspframeError(
+                f"arm targets must be {len(self.joint_names)} finite values, got {q.tolist()}"
+            )
+        qd = np.zeros_like(q) if qd is None else np.asarray(qd, dtype=float)
+        for joint, target, velocity in zip(self._access.joints, q, qd, strict=True):
+            joint.set_drive_target(float(target))
+            joint.set_drive_velocity_target(float(velocity))
+
+    def joint_positions(self) -> NDArray[np.float64]:
+        return self._access.positions()
+
+    def joint_velocities(self) -> NDArray[np.float64]:
+        return self._access.velocities()
+
+
+class SapienHandDriver(HandDriver):
+    """Hand joints, couplings enforced by the controller (with breakaway), contacts.
+
+    Commands move velocity-limited setpoints (see `update`). Closing means increasing a
+    leader joint's angle. For a controller coupling with a breakaway torque (Barrett
+    TorqueSwitch), once the leader's drive torque exceeds it while closing, the leader is
+    held where it is and the follower keeps following the commanded motor position;
+    commanding the leader back below the held angle releases it.
+    """
+
+    def __init__(
+        self,
+        scene,
+        articulation,
+        hand: HandDescription,
+        object_entity,
+        free_floating: bool,
+    ):
+        self.hand = hand
+        self.free_floating = free_floating
+        self._scene = scene
+        self._articulation = articulation
+        self._object_entity = object_entity
+        self._access = _JointAccess(articulation, hand.joint_names)
+        self._joint_by_name = dict(zip(self._access.names, self._access.joints, strict=True))
+        self._couplings = [c for c in hand.couplings if not c.in_model]
+        self._followers = {c.follower for c in self._couplings}
+        self._spec = {j.name: j for j in hand.joints}
+        self._max_velocity = {j.name: j.max_velocity for j in hand.joints}
+        self._commanded: dict[str, float] = dict.fromkeys(hand.joint_names, 0.0)
+        self._setpoint: dict[str, float] = dict.fromkeys(hand.joint_names, 0.0)
+        self._held: dict[str, float] = {}
+        self._finger_of_link = hand.finger_of_link()
+        links = {link.name: link for link in articulation.get_links()}
+        self._palm_link = links[hand.palm_frame]
+        # From the model, not the simulator: link poses are only valid after a step.
+        self._T_root_palm = CollisionModel(hand.model_path).T_root_frame(hand.palm_frame)
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        return self._access.names
+
+    def set_joint_targets(self, q_by_joint: Mapping[str, float]) -> None:
+        """Command joints [rad]. Followers of controller couplings follow their leader;
+        a value given for one is replaced by the coupling."""
+        for name, value in q_by_joint.items():
+            if name not in self._commanded:
+                raise UnknownNameError(f"joint of hand {self.hand.name!r}", name, self._commanded)
+            if not np.isfinite(value):
+                raise GraspframeError(f"hand target for {name!r} is not finite: {value}")
+            self._commanded[name] = float(value)
+        self.update()
+
+    def update(self) -> None:
+        """Advance the setpoints and apply couplings; called before every physics step.
+
+        Each joint's setpoint (the motor position) moves towards its command at the
+        joint's velocity limit, as a real finger motor does; the drives track setpoints.
+        """
+        dt = self._scene.get_timestep()
+        for name, command in self._commanded.items():
+            step = self._max_velocity[name] * dt
+            setpoint = self._setpoint[name]
+            self._setpoint[name] = setpoint + float(np.clip(command - setpoint, -step, step))
+        q = dict(zip(self._access.names, self._access.positions(), strict=True))
+        qd = dict(zip(self._access.names, self._access.velocities(), strict=True))
+        targets = dict(self._setpoint)
+        for c in self._couplings:
+            motor = self._setpoint[c.leader]
+            if c.breakaway_torque is not None:
+                held = self._held.get(c.leader)
+                drive = self.hand.drive
+                if held is not None and motor <= held:
+                    del self._held[c.leader]  # opening again releases the clutch
+                    self._set_drive(c.leader, holding=False)
+                elif held is None:
+                    torque = drive.stiffness * (motor - q[c.leader]) - drive.damping * qd[c.leader]
+                    if torque > c.breakaway_torque:
+                        self._held[c.leader] = float(q[c.leader])
+                        self._set_drive(c.leader, holding=True)
+            targets[c.leader] = self._held.get(c.leader, motor)
+            targets[c.follower] = c.multiplier * motor + c.offset
+        for name, target in targets.items():
+            spec = self._spec[name]
+            self._joint_by_name[name].set_drive_target(
+                float(np.clip(target, spec.lower, spec.upper))
+            )
+
+    def _set_drive(self, joint_name: str, holding: bool) -> None:
+        """The normal drive, or the hold of a worm gear: much stiffer and not limited by
+        the motor's force (the load cannot back-drive the gear)."""
+        drive = self.hand.drive
+        if holding:
+            stiffness, force_limit = drive.stiffness * HOLD_STIFFNESS_FACTOR, math.inf
+        else:
+            stiffness, force_limit = drive.stiffness, drive.force_limit
+        self._joint_by_name[joint_name].set_drive_property(stiffness, drive.damping, force_limit)
+
+    def reset_setpoints(self) -> None:
+        """Make the measured positions the current setpoints and commands (after a teleport)."""
+        measured = self.joint_positions()
+        self._setpoint = dict(measured)
+        self._commanded = dict(measured)
+        for leader in self._held:
+            self._set_drive(leader, holding=False)
+        self._held.clear()
+
+    @property
+    def held_leaders(self) -> dict[str, float]:
+        """Leader joints currently held by a breakaway, with the angle held [rad]."""
+        return dict(self._held)
+
+    def joint_positions(self) -> dict[str, float]:
+        return dict(zip(self._access.names, map(float, self._access.positions()), strict=True))
+
+    def contacts(self) -> list[Contact]:
+        if self._object_entity is None:
+            return []
+        return read_contacts(
+            self._scene, self._object_entity, self._finger_of_link, self._scene.get_timestep()
+        )
+
+    def palm_sensor(self) -> PalmSensorReading:
+        contacts = self.contacts()
+        on_palm = any(c.link == self.hand.palm_sensor_link for c in contacts)
+        strongest = max(contacts, key=lambda c: np.linalg.norm(c.f_world), default=None)
+        return PalmSensorReading(touched=bool(contacts), on_palm=on_palm, first_contact=strongest)
+
+    def T_world_palm(self) -> NDArray[np.float64]:
+        return to_T(self._palm_link.entity_pose)
+
+    def set_free_pose(self, T_world_palm: NDArray[np.float64]) -> None:
+        """Place a free-floating hand (teleport; do it before the hand touches anything)."""
+        if not self.free_floating:
+            super().set_free_pose(T_world_palm)
+        self._articulation.set_root_pose(to_pose(T_world_palm @ inv_T(self._T_root_palm)))
+
+
+class SapienObjectProbe(ObjectProbe):
+    def __init__(self, actor):
+        self._actor = actor
+
+    def T_world_object(self) -> NDArray[np.float64]:
+        return to_T(self._actor.get_pose())

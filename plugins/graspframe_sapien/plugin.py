@@ -1,0 +1,9 @@
+"""Registers the SAPIEN backend."""
+
+from graspframe.plugins import hookimpl
+from graspframe_sapien.world import SapienBackend
+
+
+@hookimpl
+def graspframe_register_backends(register):
+    register(SapienBackend)

@@ -1,0 +1,392 @@
+"""The Barrett BH8-280 model: geometry against ROBOTS.md, couplings, frames, preshapes.
+
+Positions come from Pinocchio forward kinematics of the shipped URDF. Tolerances:
+- 0.5 mm on positions taken straight from ROBOTS.md: the URDF stores 6 significant
+  digits, so anything above ~1 um is a modelling error, not rounding.
+- 1 mm on delta: the description keeps it to 0.1 mm.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from graspframe_barrett import plugin
+from graspframe_barrett.description import BARRETT, DISTAL, PROXIMAL, SPREAD, hand_q
+
+from graspframe.grasps import PALM, HumanGrasp, Preshape
+from graspframe.robot_model import CollisionModel, summarize_urdf
+from graspframe.testing import assert_hand_contract
+
+ROOT = Path(__file__).parents[1]
+MM = 1e-3
+DEG = math.pi / 180.0
+POSITION_TOL = 0.5 * MM
+FINGERS = (1, 2, 3)
+
+
+@pytest.fixture(scope="module")
+def fk():
+    """fk(q_by_joint, mimic=False) -> Pinocchio data after framesForwardKinematics.
+
+    With mimic=False every URDF joint is free (bh_spread_2 must be given to move); with
+    mimic=True bh_spread_2 follows bh_spread_1 as the URDF's <mimic> says."""
+    models = {m: pin.buildModelFromUrdf(str(BARRETT.model_path), m) for m in (False, True)}
+
+    def run(q_by_joint, mimic=False):
+        model = models[mimic]
+        data = model.createData()
+        q = pin.neutral(model)
+        for name, value in q_by_joint.items():
+            joint = model.joints[model.getJointId(name)]
+            assert joint.shortname() != "JointModelMimic", f"{name} is a mimic follower"
+            q[joint.idx_q] = value
+        pin.framesForwardKinematics(model, data, q)
+        return model, data
+
+    return run
+
+
+def frame_position(model, data, name: str) -> np.ndarray:
+    return data.oMf[model.getFrameId(name)].translation.copy()
+
+
+def joint_placement(model, data, name: str) -> pin.SE3:
+    return data.oMi[model.getJointId(name)]
+
+
+def tips(fk, q_by_joint) -> dict[int, np.ndarray]:
+    model, data = fk(q_by_joint, mimic=True)
+    return {f: frame_position(model, data, f"bh_f{f}_tip") for f in FINGERS}
+
+
+# --- contract, plugin, model files ------------------------------------------------------
+
+
+def test_contract():
+    assert_hand_contract(BARRETT)
+
+
+def test_plugin_registers_the_hand():
+    registered = []
+    plugin.graspframe_register_hands(registered.append)
+    assert registered == [BARRETT]
+
+
+def test_generator_reproduces_the_shipped_urdf(tmp_path, monkeypatch):
+    monkeypatch.syspath_prepend(str(ROOT))  # tools/ is a source-tree folder, not installed
+    generator = importlib.import_module("tools.robot_models.barrett")
+    written = generator.build().write(tmp_path / "barrett.urdf")
+    assert written.read_text() == BARRETT.model_path.read_text(), (
+        "robots/barrett/barrett.urdf is stale: run python -m tools.robot_models.barrett"
+    )
+
+
+def test_sapien_loads_the_same_joints_and_limits():
+    sapien = pytest.importorskip("sapien")
+    scene = sapien.Scene([sapien.physx.PhysxCpuSystem()])
+    loader = scene.create_urdf_loader()
+    loader.fix_root_link = True
+    art = loader.load(str(BARRETT.model_path))
+    sapien_limits = {
+        j.name: tuple(limits)
+        for j, limits in zip(art.get_active_joints(), art.get_qlimits(), strict=True)
+    }
+    urdf = summarize_urdf(str(BARRETT.model_path))
+    assert set(sapien_limits) == set(urdf.joints)
+    for name, joint in urdf.joints.items():
+        # SAPIEN keeps limits in float32: ~1e-7 relative.
+        assert sapien_limits[name] == pytest.approx((joint.lower, joint.upper), abs=1e-5)
+    links = {link.name for link in art.get_links()}
+    assert set(BARRETT.finger_of_link()) <= links
+
+
+def test_sapien_enforces_the_spread_mimic_and_open_preshapes_do_not_penetrate():
+    sapien = pytest.importorskip("sapien")
+    scene = sapien.Scene([sapien.physx.PhysxCpuSystem()])
+    scene.set_timestep(1 / 500)
+    loader = scene.create_urdf_loader()
+    loader.fix_root_link = True
+    art = loader.load(str(BARRETT.model_path))
+    joints = {j.name: j for j in art.get_active_joints()}
+    gains = BARRETT.drive
+    for name in BARRETT.joint_names:  # bh_spread_2 gets no drive: the mimic moves it
+        joints[name].set_drive_property(gains.stiffness, gains.damping, gains.force_limit)
+    preshape = BARRETT.preshape(Preshape.PRECISION_DISC)
+    for name, value in preshape.open_q.items():
+        joints[name].set_drive_target(value)
+    for _ in range(1000):  # 2 s
+        scene.step()
+    q = dict(zip(joints, art.get_qpos(), strict=True))
+    # Settles within 1 deg of the 60 deg target (gravity on the fingers, PD drive).
+    assert q[SPREAD] == pytest.approx(preshape.open_q[SPREAD], abs=1 * DEG)
+    assert q["bh_spread_2"] == pytest.approx(q[SPREAD], abs=0.1 * DEG)
+    # PhysX reports shape pairs within its contact offset; none may overlap or push.
+    for contact in scene.get_contacts():
+        names = [body.entity.name for body in contact.bodies]
+        for point in contact.points:
+            assert point.separation > -0.5 * MM, f"{names} penetrate"
+            assert np.linalg.norm(point.impulse) < 1e-6, f"{names} push each other"
+
+
+# --- geometry against ROBOTS.md --------------------------------------------------------
+
+
+def test_flexion_axes_at_spread_zero(fk):
+    model, data = fk({})
+    expected_mm = {1: (25, 50, 75.4), 2: (-25, 50, 75.4), 3: (0, -50, 75.4)}
+    for finger, xyz_mm in expected_mm.items():
+        placement = joint_placement(model, data, f"bh_f{finger}_prox")
+        np.testing.assert_allclose(placement.translation, np.array(xyz_mm) * MM, atol=POSITION_TOL)
+        # The flexion axis (joint x axis) is parallel to the base x axis.
+        assert abs(placement.rotation[:, 0] @ [1.0, 0.0, 0.0]) == pytest.approx(1.0, abs=1e-9)
+
+
+def test_spread_axes(fk):
+    model, data = fk({})
+    for name, x_mm, axis_z in (("bh_spread_1", 25, -1.0), ("bh_spread_2", -25, 1.0)):
+        placement = joint_placement(model, data, name)
+        np.testing.assert_allclose(
+            placement.translation, np.array([x_mm, 0, 41.5]) * MM, atol=POSITION_TOL
+        )
+        # Joint axis in the base frame: the angular part of the joint's own Jacobian column.
+        q = pin.neutral(model)
+        pin.computeJointJacobians(model, data, q)
+        J = pin.getJointJacobian(
+            model, data, model.getJointId(name), pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+        )
+        column = model.joints[model.getJointId(name)].idx_v
+        np.testing.assert_allclose(J[3:, column], [0.0, 0.0, axis_z], atol=1e-9)
+
+
+def test_finger_segment_lengths(fk):
+    """Flexion axis to distal joint 69.9 mm, distal joint to fingertip 50 mm; with the
+    distal joint turned back by its 42 deg rest angle the finger is straight: 119.9 mm."""
+    straight = {name: -42 * DEG for name in DISTAL}  # outside the limits, fine for FK
+    model, data = fk({**straight, "bh_spread_2": 0.0})
+    for finger in FINGERS:
+        knuckle = joint_placement(model, data, f"bh_f{finger}_prox").translation
+        distal = joint_placement(model, data, f"bh_f{finger}_dist").translation
+        tip = frame_position(model, data, f"bh_f{finger}_tip")
+        assert np.linalg.norm(distal - knuckle) == pytest.approx(69.9 * MM, abs=POSITION_TOL)
+        assert np.linalg.norm(tip - distal) == pytest.approx(50 * MM, abs=POSITION_TOL)
+        assert np.linalg.norm(tip - knuckle) == pytest.approx(119.9 * MM, abs=POSITION_TOL)
+
+
+def test_distal_rests_42_degrees_bent(fk):
+    model, data = fk({})
+    for finger in FINGERS:
+        knuckle = joint_placement(model, data, f"bh_f{finger}_prox").translation
+        distal = joint_placement(model, data, f"bh_f{finger}_dist").translation
+        tip = frame_position(model, data, f"bh_f{finger}_tip")
+        a, b = distal - knuckle, tip - distal
+        angle = math.acos(a @ b / np.linalg.norm(a) / np.linalg.norm(b))
+        assert angle == pytest.approx(42 * DEG, abs=0.01 * DEG)
+        # ... bent upwards, towards closing: the tip rises above the flat proximal link.
+        assert tip[2] > distal[2] + 30 * MM
+
+
+def test_flexion_zero_is_flat_and_positive_flexion_curls_towards_the_palm(fk):
+    flat = tips(fk, hand_q(0, 0))
+    upright = hand_q(0, 90)
+    model, data = fk({**upright, "bh_spread_2": 0.0})
+    for finger in FINGERS:
+        knuckle = joint_placement(model, data, f"bh_f{finger}_prox").translation
+        distal = joint_placement(model, data, f"bh_f{finger}_dist").translation
+        # 90 deg: proximal link upright along the palm normal.
+        np.testing.assert_allclose(distal - knuckle, [0, 0, 69.9 * MM], atol=POSITION_TOL)
+        # 0 deg: the fingertip lies outside the knuckle, away from the palm axis (y = 0).
+        assert abs(flat[finger][1]) > abs(knuckle[1]) + 100 * MM
+    # Curling: fingers 1-2 tips move to -y, finger 3's to +y, as flexion grows.
+    for a, b in ((60, 90), (90, 120)):
+        tips_a, tips_b = tips(fk, hand_q(0, a)), tips(fk, hand_q(0, b))
+        assert tips_b[1][1] < tips_a[1][1] and tips_b[2][1] < tips_a[2][1]
+        assert tips_b[3][1] > tips_a[3][1]
+
+
+def test_spread_carries_fingers_1_and_2_apart_towards_finger_3(fk):
+    def knuckles(spread_deg):
+        model, data = fk({SPREAD: spread_deg * DEG}, mimic=True)
+        return {f: joint_placement(model, data, f"bh_f{f}_prox").translation for f in (1, 2)}
+
+    at_90, at_180 = knuckles(90), knuckles(180)
+    np.testing.assert_allclose(at_90[1], np.array([75, 0, 75.4]) * MM, atol=POSITION_TOL)
+    np.testing.assert_allclose(at_90[2], np.array([-75, 0, 75.4]) * MM, atol=POSITION_TOL)
+    # At 180 deg they stand beside finger 3 at y = -50.
+    np.testing.assert_allclose(at_180[1], np.array([25, -50, 75.4]) * MM, atol=POSITION_TOL)
+    np.testing.assert_allclose(at_180[2], np.array([-25, -50, 75.4]) * MM, atol=POSITION_TOL)
+
+
+@pytest.mark.parametrize("spread_deg", [0, 30, 60, 120, 180])
+def test_spread_mimic_makes_finger_2_mirror_finger_1(fk, spread_deg):
+    """Pinocchio with mimic: finger 2 is finger 1 mirrored in the y-z plane (x -> -x)."""
+    q = hand_q(spread_deg, 50)
+    model, data = fk(q, mimic=True)
+    assert model.nq == 7  # the follower adds no configuration variable
+    mirror = np.array([-1.0, 1.0, 1.0])
+    for part in ("bh_f{}_prox_link", "bh_f{}_dist_link", "bh_f{}_tip"):
+        p1 = frame_position(model, data, part.format(1))
+        p2 = frame_position(model, data, part.format(2))
+        np.testing.assert_allclose(p2, mirror * p1, atol=1e-9)
+
+
+def angle_around_palm_axis_deg(p) -> float:
+    return math.degrees(math.atan2(p[1], p[0]))
+
+
+def test_spread_60_turns_the_closing_planes_120_degrees_apart(fk):
+    """At spread 60 deg each finger closes along a horizontal direction 120 deg from the
+    others' (the fingertip displacement between two flexion angles)."""
+    before, after = tips(fk, hand_q(60, 30)), tips(fk, hand_q(60, 60))
+    angles = sorted(angle_around_palm_axis_deg(after[f] - before[f]) for f in FINGERS)
+    gaps = np.diff([*angles, angles[0] + 360.0])
+    np.testing.assert_allclose(gaps, 120.0, atol=0.01)
+
+
+def test_spread_60_puts_the_open_fingertips_about_120_degrees_apart(fk):
+    # +-10 deg: the closing planes meet 14.4 mm from the palm axis (towards finger 3), not
+    # on it, so seen from the palm axis the tips of the open hand sit at 116/128/116 deg.
+    t = tips(fk, hand_q(60, 0))
+    angles = sorted(angle_around_palm_axis_deg(t[f]) for f in FINGERS)
+    gaps = np.diff([*angles, angles[0] + 360.0])
+    np.testing.assert_allclose(gaps, 120.0, atol=10.0)
+
+
+def test_mass():
+    model = pin.buildModelFromUrdf(str(BARRETT.model_path), False)
+    total = sum(inertia.mass for inertia in model.inertias)
+    # 1.2 kg (ROBOTS.md) plus four massless marker links at 1 g each.
+    assert total == pytest.approx(1.2, abs=0.01)
+
+
+# --- palm frame and palm pad -----------------------------------------------------------
+
+
+def test_palm_frame_pose(fk):
+    model, data = fk({})
+    T_base_palm = data.oMf[model.getFrameId(BARRETT.palm_frame)]
+    # Origin at the palm surface centre, in the plane of the flexion axes (our choice).
+    np.testing.assert_allclose(T_base_palm.translation, [0, 0, 75.4 * MM], atol=POSITION_TOL)
+    R = T_base_palm.rotation
+    # 1e-5: the URDF writes angles to 6 significant digits (pi/2 -> 1.5708).
+    np.testing.assert_allclose(R[:, 2], [0, 0, 1], atol=1e-5)  # out of the palm
+    np.testing.assert_allclose(R[:, 0], [0, 1, 0], atol=1e-5)  # finger 3 -> fingers 1-2
+    np.testing.assert_allclose(R[:, 1], np.cross(R[:, 2], R[:, 0]), atol=1e-9)
+
+
+def test_palm_frame_probes():
+    collision = CollisionModel(BARRETT.model_path)
+    T_base_palm = collision.T_root_frame(BARRETT.palm_frame)
+    origin, z_axis = T_base_palm[:3, 3], T_base_palm[:3, 2]
+    assert collision.links_containing(origin + 0.02 * z_axis) == []
+    assert "bh_base" in collision.links_containing(origin - 0.01 * z_axis)
+    # The pad is the palm surface: just under the frame origin is the pad, just above is air.
+    assert collision.links_containing(origin - 0.5 * MM * z_axis) == [BARRETT.palm_sensor_link]
+    assert collision.links_containing(origin + 0.5 * MM * z_axis) == []
+
+
+def test_palm_pad_spans_the_published_area():
+    collision = CollisionModel(BARRETT.model_path)
+    T_base_palm = collision.T_root_frame(BARRETT.palm_frame)
+    below = T_base_palm[:3, 3] - 1 * MM * T_base_palm[:3, 2]
+    pad = BARRETT.palm_sensor_link
+    for x_mm, y_mm, inside in ((37, 21, True), (-37, -21, True), (39, 0, False), (0, 22.5, False)):
+        p = below + np.array([x_mm, y_mm, 0.0]) * MM
+        assert (pad in collision.links_containing(p)) is inside, (x_mm, y_mm)
+    assert pad in BARRETT.real_fingers[PALM]
+
+
+# --- description: couplings, joints, preshapes -----------------------------------------
+
+
+def test_driven_joints_exclude_the_mimic_follower():
+    assert BARRETT.joint_names == (SPREAD, *PROXIMAL, *DISTAL)
+    assert "bh_spread_2" not in BARRETT.joint_names
+
+
+def test_couplings():
+    by_follower = {c.follower: c for c in BARRETT.couplings}
+    spread = by_follower["bh_spread_2"]
+    assert (spread.leader, spread.multiplier, spread.in_model) == (SPREAD, 1.0, True)
+    for prox, dist in zip(PROXIMAL, DISTAL, strict=True):
+        c = by_follower[dist]
+        assert c.leader == prox
+        assert c.multiplier == pytest.approx(1 / 3)
+        assert c.in_model is False  # TorqueSwitch: the controller enforces it
+
+
+def test_urdf_mimic_is_only_the_spread():
+    text = BARRETT.model_path.read_text()
+    assert text.count("<mimic ") == 1
+    assert '<mimic joint="bh_spread_1" multiplier="1" offset="0"/>' in text
+
+
+def test_preshapes_set_every_joint_and_follow_the_distal_coupling():
+    for preshape in BARRETT.preshapes.values():
+        for q in (preshape.open_q, preshape.closed_q):
+            assert set(q) == set(BARRETT.joint_names)
+            for prox, dist in zip(PROXIMAL, DISTAL, strict=True):
+                assert q[dist] == pytest.approx(q[prox] / 3)
+                assert BARRETT.joint(dist).contains(q[dist])
+
+
+def test_mapping_table():
+    expected = {
+        HumanGrasp.LARGE_DIAMETER: Preshape.WRAP,
+        HumanGrasp.SMALL_DIAMETER: Preshape.WRAP,
+        HumanGrasp.ABDUCTED_THUMB: Preshape.PRECISION,
+        HumanGrasp.PINCH: Preshape.PRECISION,
+        HumanGrasp.POWER_SPHERE: Preshape.PRECISION_DISC,
+        HumanGrasp.PRECISION_DISC: Preshape.PRECISION_DISC,
+    }
+    assert {g: BARRETT.preshape_for(g).name for g in HumanGrasp} == expected
+
+
+@pytest.mark.parametrize("name", list(Preshape)[:3])
+def test_delta_is_the_fingertip_height_above_the_palm(fk, name):
+    preshape = BARRETT.preshape(name)
+    model, data = fk(preshape.open_q, mimic=True)
+    T_base_palm = data.oMf[model.getFrameId(BARRETT.palm_frame)]
+    heights = [T_base_palm.actInv(frame_position(model, data, f"bh_f{f}_tip"))[2] for f in FINGERS]
+    assert preshape.delta == pytest.approx(max(heights), abs=1 * MM)
+
+
+def test_wrap_opens_wide():
+    t = tips_of(Preshape.WRAP, "open")
+    assert t[1][1] - t[3][1] > 0.25  # fingertips more than 25 cm apart
+
+
+def test_precision_opens_to_a_small_aperture_and_closes_past_the_meeting_point():
+    t_open = tips_of(Preshape.PRECISION, "open")
+    aperture = t_open[1][1] - t_open[3][1]
+    assert 0.06 <= aperture <= 0.08
+    t_closed = tips_of(Preshape.PRECISION, "closed")
+    assert t_closed[1][1] < t_closed[3][1]  # the tips have passed each other in free space
+
+
+def test_precision_disc_spreads_to_about_120_degrees():
+    spread = BARRETT.preshape(Preshape.PRECISION_DISC).open_q[SPREAD]
+    assert spread == pytest.approx(60 * DEG, abs=5 * DEG)
+
+
+def test_open_preshapes_are_free_of_self_collision():
+    collision = CollisionModel(BARRETT.model_path)
+    for q in (hand_q(0, 0), *(p.open_q for p in BARRETT.preshapes.values())):
+        collision.place(BARRETT.with_model_followers(q))
+        assert collision.colliding_links() == [], q
+
+
+def tips_of(name: Preshape, which: str) -> dict[int, np.ndarray]:
+    preshape = BARRETT.preshape(name)
+    q = preshape.open_q if which == "open" else preshape.closed_q
+    model = pin.buildModelFromUrdf(str(BARRETT.model_path), True)
+    data = model.createData()
+    config = pin.neutral(model)
+    for joint_name, value in q.items():
+        config[model.joints[model.getJointId(joint_name)].idx_q] = value
+    pin.framesForwardKinematics(model, data, config)
+    return {f: frame_position(model, data, f"bh_f{f}_tip") for f in FINGERS}

@@ -1,0 +1,124 @@
+"""Draw every registered hand in each of its preshapes (open and closed) for docs/robots.md.
+
+    python -m tools.draw_hands            # writes docs/images/<hand>_<preshape>.png
+
+The collision shapes are placed by Pinocchio forward kinematics (CollisionModel) and drawn
+with matplotlib, in the palm frame: +z out of the palm (up in the picture), +x towards
+the fingertips.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+from graspframe.grasps import PALM
+from graspframe.registry import default_registry
+from graspframe.robot_model import CollisionModel
+from graspframe.transforms import inv_T
+
+OUT_DIR = Path(__file__).parents[1] / "docs" / "images"
+FINGER_COLOURS = ["#d95f02", "#1b9e77", "#7570b3", "#e7298a", "#66a61e", "#e6ab02"]
+PALM_COLOUR = "#999999"
+
+
+def _box_faces(half, T):
+    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+    points = corners * half @ T[:3, :3].T + T[:3, 3]
+    quads = [(0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5)]
+    return [points[list(q)] for q in quads]
+
+
+def _cylinder_faces(radius, half_length, T, n=16):
+    angles = np.linspace(0, 2 * np.pi, n + 1)
+    ring = np.stack([radius * np.cos(angles), radius * np.sin(angles)], axis=1)
+    bottom = np.c_[ring, -half_length * np.ones(n + 1)] @ T[:3, :3].T + T[:3, 3]
+    top = np.c_[ring, half_length * np.ones(n + 1)] @ T[:3, :3].T + T[:3, 3]
+    sides = [np.array([bottom[i], bottom[i + 1], top[i + 1], top[i]]) for i in range(n)]
+    return [*sides, bottom[:-1], top[:-1]]
+
+
+def _sphere_faces(radius, T, n=10):
+    faces = []
+    lat = np.linspace(0, np.pi, n)
+    lon = np.linspace(0, 2 * np.pi, 2 * n)
+    for i in range(n - 1):
+        for j in range(2 * n - 1):
+            quad = []
+            for a, b in ((i, j), (i, j + 1), (i + 1, j + 1), (i + 1, j)):
+                quad.append(
+                    [
+                        radius * np.sin(lat[a]) * np.cos(lon[b]),
+                        radius * np.sin(lat[a]) * np.sin(lon[b]),
+                        radius * np.cos(lat[a]),
+                    ]
+                )
+            faces.append(np.array(quad) @ T[:3, :3].T + T[:3, 3])
+    return faces
+
+
+def shape_faces(shape, T):
+    kind = type(shape).__name__
+    if kind == "Box":
+        return _box_faces(np.asarray(shape.halfSide), T)
+    if kind == "Cylinder":
+        return _cylinder_faces(shape.radius, shape.halfLength, T)
+    if kind == "Sphere":
+        return _sphere_faces(shape.radius, T)
+    raise ValueError(f"cannot draw a {kind}")
+
+
+def draw(hand, preshape, path: Path) -> None:
+    model = CollisionModel(hand.model_path)
+    finger_of_link = hand.finger_of_link()
+    colours = {f: FINGER_COLOURS[i % len(FINGER_COLOURS)] for i, f in enumerate(hand.real_fingers)}
+    colours[PALM] = PALM_COLOUR
+    fig = plt.figure(figsize=(8, 4))
+    for column, (label, q) in enumerate((("open", preshape.open_q), ("closed", preshape.closed_q))):
+        model.place(hand.with_model_followers(q))
+        T_palm_root = inv_T(model.T_root_frame(hand.palm_frame))
+        ax = fig.add_subplot(1, 2, column + 1, projection="3d")
+        all_points = []
+        for link, shape, T_root_shape in model.shapes():
+            faces = shape_faces(shape, T_palm_root @ T_root_shape)
+            colour = colours.get(finger_of_link.get(link, PALM), PALM_COLOUR)
+            ax.add_collection3d(
+                Poly3DCollection(faces, facecolor=colour, edgecolor="k", linewidths=0.1, alpha=0.8)
+            )
+            all_points.extend(np.concatenate(faces))
+        points = np.array(all_points)
+        centre, span = points.mean(axis=0), (points.max(axis=0) - points.min(axis=0)).max() / 2
+        for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
+            setter(c - span, c + span)
+        ax.set_box_aspect((1, 1, 1))
+        ax.view_init(elev=20, azim=-60)
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        ax.set_zlabel("z [m]")
+        ax.set_title(f"{label}")
+        ax.quiver(0, 0, 0, 0, 0, 0.04, color="r")  # palm normal
+    fig.suptitle(f"{hand.name}: {preshape.name} (palm frame; red arrow = palm +z)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+
+
+def main() -> None:
+    OUT_DIR.mkdir(parents=True, exist_ok=True)
+    registry = default_registry()
+    for hand_name in registry.names("hand"):
+        hand = registry.get_hand(hand_name)
+        for preshape in hand.preshapes.values():
+            path = OUT_DIR / f"{hand_name}_{preshape.name}.png"
+            draw(hand, preshape, path)
+            print(path.relative_to(OUT_DIR.parents[1]))
+
+
+if __name__ == "__main__":
+    main()
