@@ -227,14 +227,14 @@ def palm_to_fingertip(urdf_path: Path, q_by_name: dict[str, float]) -> float:
 
 def main() -> None:
     path = build().write(URDF_PATH)
-    print(f"wrote {path}")  # noqa: T201 - a generator script reports
+    print(f"wrote {path}")
     from graspframe_barrett.description import BARRETT
 
     for preshape in BARRETT.preshapes.values():
         delta = palm_to_fingertip(path, dict(preshape.open_q))
         status = "ok" if abs(delta - preshape.delta) < 5e-4 else "UPDATE description.py"
         line = f"delta {preshape.name}: {delta:.4f} m (in description: {preshape.delta})"
-        print(line, status)  # noqa: T201
+        print(line, status)
 
 
 if __name__ == "__main__":

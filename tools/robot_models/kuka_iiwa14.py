@@ -98,7 +98,7 @@ def build() -> UrdfBuilder:
 def main(argv: list[str]) -> None:
     out = Path(argv[0]) if argv else OUTPUT
     path = build().write(out)
-    print(f"wrote {path}")  # noqa: T201 - a command-line tool reports what it wrote
+    print(f"wrote {path}")
 
 
 if __name__ == "__main__":
