@@ -1,0 +1,11 @@
+"""Registers the Karlsruhe humanoid hand with graspframe."""
+
+from __future__ import annotations
+
+from graspframe.plugins import hookimpl
+from graspframe_karlsruhe.description import KARLSRUHE_HAND
+
+
+@hookimpl
+def graspframe_register_hands(register):
+    register(KARLSRUHE_HAND)
