@@ -10,6 +10,7 @@ import json
 import logging
 import sys
 import traceback
+from pathlib import Path
 from typing import Annotated
 
 import typer
@@ -17,7 +18,7 @@ from rich.console import Console
 from rich.table import Table
 
 from graspframe import __version__
-from graspframe.errors import GraspframeError, NotAvailableError
+from graspframe.errors import GraspframeError, InputError, NotAvailableError
 
 app = typer.Typer(
     name="graspframe",
@@ -113,10 +114,91 @@ def plugins(
                 console.print(f"\n[bold]{info.name}[/bold] ({info.package})\n{info.details}")
 
 
+def _parse_error_mm(text: str) -> tuple[float, float]:
+    """ "DX,DY" in millimetres -> (dx, dy) in metres."""
+    try:
+        dx_mm, dy_mm = (float(v) for v in text.split(","))
+    except ValueError:
+        raise InputError(
+            f"--object-error-mm must be two numbers 'DX,DY' in millimetres, got {text!r}"
+        ) from None
+    return dx_mm / 1000.0, dy_mm / 1000.0
+
+
 @app.command()
-def run() -> None:
-    """Image of a human grasp -> robot grasp on the arm in simulation, scored."""
-    raise _not_yet("graspframe run")
+def run(
+    hand: Annotated[str, typer.Option(help="Robot hand plugin name.")] = "karlsruhe",
+    grasp: Annotated[
+        str | None, typer.Option(help="The human grasp (skips vision), e.g. large_diameter.")
+    ] = None,
+    arm: Annotated[str, typer.Option(help="Arm plugin name.")] = "kuka",
+    object_name: Annotated[
+        str | None, typer.Option("--object", help="Object name (default: the grasp's own).")
+    ] = None,
+    object_error_mm: Annotated[
+        str, typer.Option(help="Error 'DX,DY' [mm] added to the object position the robot uses.")
+    ] = "0,0",
+    seed: Annotated[int, typer.Option(help="Seed of everything random in the run.")] = 0,
+    backend: Annotated[str, typer.Option(help="Backend plugin name.")] = "sapien",
+    out: Annotated[Path, typer.Option(help="Folder for run folders.")] = Path("runs"),
+    human_contacts: Annotated[
+        Path | None,
+        typer.Option(help="JSON file of measured human contacts replacing the simulated ones."),
+    ] = None,
+) -> None:
+    """Human grasp -> robot grasp on the arm in simulation, scored against the human."""
+    from graspframe.grasps import HumanGrasp
+    from graspframe.runner import RunRequest, run_grasp
+
+    if grasp is None:
+        raise InputError(
+            "no --grasp given and no image classifier is installed; pass --grasp with one of: "
+            + ", ".join(g.value for g in HumanGrasp)
+        )
+    request = RunRequest(
+        hand=hand,
+        grasp=HumanGrasp.parse(grasp),
+        arm=arm,
+        object=object_name,
+        object_error=_parse_error_mm(object_error_mm),
+        seed=seed,
+        backend=backend,
+        out_root=str(out),
+        human_contacts=str(human_contacts) if human_contacts else None,
+    )
+    result = run_grasp(request, progress=lambda stage: err_console.print(f"[dim]· {stage}[/dim]"))
+    _print_run_summary(result)
+
+
+def _print_run_summary(result: dict) -> None:
+    plan, outcome, score = result["plan"], result["outcome"], result.get("score", {})
+    console.print(
+        f"[bold]{plan['hand']}[/bold]: human {plan['grasp']} -> preshape {plan['preshape']}, "
+        f"{plan['approach']} approach, {'volar' if plan['volar'] else 'non-volar'}"
+    )
+    console.print(
+        f"corrections: {outcome['corrections']}   palm contact: {outcome['palm_contact']}   "
+        f"held after a {100 * 0.05:.0f} cm lift: {outcome['held_after_lift']} "
+        f"(object rose {1000 * outcome['object_rise']:.0f} mm)"
+    )
+    per_finger: dict[str, int] = {}
+    for contact in outcome["contacts_world"]:
+        per_finger[contact["real_finger"]] = per_finger.get(contact["real_finger"], 0) + 1
+    listing = ", ".join(f"{f} {n}" for f, n in sorted(per_finger.items())) or "none"
+    console.print(f"contacts per real finger: {listing}")
+    if outcome["failure_reason"]:
+        console.print(f"[yellow]grasp failed:[/yellow] {outcome['failure_reason']}")
+    comparison = score.get("comparison")
+    if comparison:
+        robot_n, human_n = comparison["robot_count"], comparison["human_count"]
+        console.print(
+            f"virtual fingers robot {robot_n} / human {human_n}: "
+            f"position error {comparison['position_err_mm']:.1f} mm, "
+            f"orientation error {comparison['orientation_err_deg']:.1f} deg"
+        )
+    elif "error" in score:
+        console.print(f"virtual fingers: not scored ({score['error']})")
+    console.print(f"result: {result['result_path']}")
 
 
 @app.command()

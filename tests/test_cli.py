@@ -34,6 +34,11 @@ def test_commands_not_built_yet_say_so_in_one_line(command, capsys):
     assert "not available" in err
 
 
+def test_run_without_a_grasp_says_what_to_pass(capsys):
+    assert main(["run", "--hand", "barrett"]) == 1
+    assert "pass --grasp with one of: large_diameter" in capsys.readouterr().err
+
+
 def test_verbose_shows_the_traceback(capsys):
-    assert main(["--verbose", "run"]) == 1
+    assert main(["--verbose", "classify"]) == 1
     assert "Traceback" in capsys.readouterr().err

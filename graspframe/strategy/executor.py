@@ -33,6 +33,7 @@ HOLD_TIME = 0.5  # [s]
 LIFT_HEIGHT = 0.05  # [m]
 LIFT_SPEED = 0.05  # [m/s]
 HELD_FRACTION = 0.8  # the object is held if it rose by at least this part of the lift
+MIN_FINGERS = 2  # real fingers (the palm counts as one) that must touch for a grasp
 
 
 @dataclass(frozen=True)
@@ -65,11 +66,32 @@ class GraspOutcome:
     held_after_lift: bool
     object_rise: float
     fingers_after_lift: list[str]
+    lift_height: float
     goals: list[list[float]] = field(default_factory=list)
 
     @property
     def touching_fingers(self) -> list[str]:
         return sorted({c.real_finger for c in self.contacts})
+
+    @property
+    def success(self) -> bool:
+        """At least MIN_FINGERS real fingers touched and the object was held in the lift."""
+        return self.failure_reason is None
+
+    @property
+    def failure_reason(self) -> str | None:
+        """Why the grasp failed, in words (None when it succeeded)."""
+        fingers = self.touching_fingers
+        if not fingers:
+            return "no real finger touched the object when the hand closed"
+        if len(fingers) < MIN_FINGERS:
+            return f"only {', '.join(fingers)} touched the object; a grasp needs {MIN_FINGERS}"
+        if not self.held_after_lift:
+            return (
+                f"the object slipped during the lift: it rose {1000 * self.object_rise:.0f} mm "
+                f"of the hand's {1000 * self.lift_height:.0f} mm"
+            )
+        return None
 
 
 Emit = Callable[..., None]
@@ -205,5 +227,6 @@ def execute_plan(
         held_after_lift=held,
         object_rise=rise,
         fingers_after_lift=fingers_after,
+        lift_height=p.lift_height,
         goals=goals,
     )

@@ -1,0 +1,70 @@
+"""Run artefacts: the run folder, JSON-safe values, versions, writing result.json safely."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import platform
+from datetime import UTC, datetime
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from graspframe.contacts import Contact
+
+VERSIONED_PACKAGES = ("graspframe", "sapien", "pin", "placo", "ruckig", "rerun-sdk", "numpy")
+
+
+def jsonable(value: Any) -> Any:
+    """numpy arrays and scalars, enums, paths and contacts as plain JSON values."""
+    if isinstance(value, np.ndarray):
+        return jsonable(value.tolist())
+    if isinstance(value, np.generic):
+        return jsonable(value.item())
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, Contact):
+        return value.to_dict()
+    if isinstance(value, dict):
+        return {str(k): jsonable(v) for k, v in value.items()}
+    if isinstance(value, list | tuple | set | frozenset):
+        return [jsonable(v) for v in value]
+    if isinstance(value, Path):
+        return str(value)
+    if hasattr(value, "value") and isinstance(value.value, str):  # StrEnum
+        return value.value
+    return value
+
+
+def versions() -> dict[str, str]:
+    found = {"python": platform.python_version()}
+    for package in VERSIONED_PACKAGES:
+        try:
+            found[package] = version(package)
+        except PackageNotFoundError:
+            found[package] = "not installed"
+    return found
+
+
+def new_run_dir(out_root: Path | str, label: str) -> Path:
+    """A fresh runs/<UTC timestamp>-<label>/ folder (suffixed if it exists)."""
+    stamp = datetime.now(UTC).strftime("%Y%m%dT%H%M%S")
+    base = Path(out_root) / f"{stamp}-{label}"
+    path, n = base, 1
+    while True:
+        try:
+            path.mkdir(parents=True)
+            return path
+        except FileExistsError:
+            n += 1
+            path = base.with_name(f"{base.name}-{n}")
+
+
+def write_json(path: Path, data: dict) -> None:
+    """Write then rename, so a reader never sees half a file."""
+    tmp = path.with_suffix(f".{os.getpid()}.tmp")
+    tmp.write_text(json.dumps(jsonable(data), indent=2))
+    tmp.replace(path)
