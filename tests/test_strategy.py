@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -162,7 +163,7 @@ def test_every_grasp_runs_and_failures_say_why(hand_name, tmp_path):
 
 def test_result_json_holds_everything_to_reproduce_the_run(tmp_path):
     result = _run(tmp_path, hand="barrett", grasp=G.PRECISION_DISC, seed=5)
-    saved = json.loads(open(result["result_path"]).read())
+    saved = json.loads(Path(result["result_path"]).read_text())
     assert saved["status"] == "ok"
     assert saved["seed"] == 5
     assert saved["reproduce"].startswith("graspframe run --hand barrett --grasp precision_disc")

@@ -1,1 +1,1 @@
-"""Built-in graspframe plugin: human."""
+"""Built-in graspframe plugin: the human right hand, the reference hand for scoring."""
