@@ -39,5 +39,9 @@ class InputError(GraspframeError):
     """User input (a file, an option value) that cannot be used."""
 
 
+class MotionError(GraspframeError):
+    """The arm cannot do what was asked: a pose out of reach, a line it cannot follow."""
+
+
 class NotAvailableError(GraspframeError):
     """A feature that this version of graspframe does not provide yet."""

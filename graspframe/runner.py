@@ -31,7 +31,7 @@ from graspframe.strategy.human_reference import (
     load_reference_file,
 )
 from graspframe.strategy.planner import PlannerParams, plan_grasp
-from graspframe.strategy.reference_poses import reference_T_object_palm
+from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 
 log = logging.getLogger(__name__)
@@ -162,8 +162,7 @@ def _execute(
 ):
     grasp = request.grasp
     # The human grasp: the reference placement of the human palm on this object.
-    posture = human.preshape_for(grasp)
-    T_object_hand = reference_T_object_palm(grasp, obj, grasp_depth=posture.delta)
+    placement = reference_placement(obj, human.preshape_for(grasp))
     T_world_object = make_T(p=[*SCENE_OBJECT_XY, TABLE_HEIGHT + obj.half_height])
     T_world_object_est = T_world_object.copy()
     T_world_object_est[:2, 3] += request.object_error
@@ -171,10 +170,10 @@ def _execute(
     progress("planning")
     plan = plan_grasp(
         grasp,
-        T_object_hand,
+        placement.T_object_palm,
         T_world_object_est,
         hand,
-        human_grasp_depth=posture.delta,
+        p_hand_grasp=placement.p_palm_grasp,
         table_height=TABLE_HEIGHT,
         object_top_height=T_world_object_est[2, 3] + obj.half_height,
         params=PlannerParams(),

@@ -8,6 +8,7 @@ from graspframe.hal.descriptions import (
     HandDescription,
     HandPreshape,
     JointSpec,
+    PostureObject,
 )
 from graspframe.hal.drivers import ArmDriver, Backend, HandDriver, ObjectProbe, World, WorldConfig
 from graspframe.hal.objects import ObjectDescription
@@ -27,6 +28,7 @@ __all__ = [
     "Neighbour",
     "ObjectDescription",
     "ObjectProbe",
+    "PostureObject",
     "World",
     "WorldConfig",
 ]

@@ -72,6 +72,21 @@ class DriveGains:
 
 
 @dataclass(frozen=True)
+class PostureObject:
+    """The object a (human) posture is shaped for, in the palm frame.
+
+    shape: "cylinder" or "sphere"; centre: [m]; axis: unit vector (cylinders);
+    radius, length: [m] (length for cylinders).
+    """
+
+    shape: str
+    centre: tuple[float, float, float]
+    radius: float
+    axis: tuple[float, float, float] | None = None
+    length: float | None = None
+
+
+@dataclass(frozen=True)
 class HandPreshape:
     """A preshape: joint targets [rad] for the open and the closed hand.
 
@@ -80,12 +95,23 @@ class HandPreshape:
         earlier, in free space they reach it.
     delta: palm-to-fingertip distance [m] of the open preshape along the palm normal,
         the standoff of the non-volar strategy (METHOD.md section 4.5).
+    grasp_center: [m] palm-frame point where the closing fingers meet an object, when it
+        is not on the palm normal (human-like hands close forward of the palm centre);
+        None means (0, 0, delta).
+    posture_object: for human postures, the object the posture is shaped for.
     """
 
     name: str
     open_q: Mapping[str, float]
     closed_q: Mapping[str, float]
     delta: float
+    grasp_center: tuple[float, float, float] | None = None
+    posture_object: PostureObject | None = None
+
+    @property
+    def grasp_center_palm(self) -> tuple[float, float, float]:
+        """[m] where the fingers close, in the palm frame."""
+        return self.grasp_center if self.grasp_center is not None else (0.0, 0.0, self.delta)
 
 
 @dataclass(frozen=True)

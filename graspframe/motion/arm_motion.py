@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.contacts import Contact
-from graspframe.errors import GraspframeError
+from graspframe.errors import GraspframeError, MotionError
 from graspframe.hal.drivers import World
 from graspframe.motion.ik import IkSolver, describe_pose
 from graspframe.motion.trajectory import JointLimits, OnlineTrajectory
@@ -113,7 +113,7 @@ class ArmMotion:
         solution = self.tracking_ik.solve(T_base_palm, q_seed=self.q_ik)
         jump = float(np.abs(solution.q_arm - self.q_ik).max())
         if jump > MAX_WAYPOINT_JUMP:
-            raise GraspframeError(
+            raise MotionError(
                 f"the straight palm line cannot be followed near {describe_pose(T_base_palm)}: "
                 f"the arm would jump {np.degrees(jump):.0f} deg between waypoints "
                 "(a singularity or a joint limit on the way)"
@@ -132,7 +132,7 @@ class ArmMotion:
         limit = round(SETTLE_TIME_LIMIT / self.control_period)
         while not (self.trajectory.finished and self.trajectory.at_rest):
             if cycles >= limit:
-                raise GraspframeError(f"the arm did not come to rest within {SETTLE_TIME_LIMIT} s")
+                raise MotionError(f"the arm did not come to rest within {SETTLE_TIME_LIMIT} s")
             self.cycle()
             cycles += 1
         return cycles
@@ -147,7 +147,7 @@ class ArmMotion:
                 break
             self.cycle()
         else:
-            raise GraspframeError(f"the joint move did not finish within {time_limit} s")
+            raise MotionError(f"the joint move did not finish within {time_limit} s")
         self.q_ik = np.asarray(q_goal, dtype=float)
         return self.world.time - start
 

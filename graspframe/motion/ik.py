@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from graspframe.errors import GraspframeError
+from graspframe.errors import GraspframeError, MotionError
 from graspframe.mounting import MountedRobot
 from graspframe.transforms import as_pose, inv_T, rpy_from_R
 
@@ -64,7 +64,7 @@ STUCK_STEP = 1e-10
 _WIDE_LIMIT = 1e3  # [rad] limits given to the masked hand joints (they never move)
 
 
-class UnreachableError(GraspframeError):
+class UnreachableError(MotionError):
     """No arm configuration within the joint limits puts the palm on the target."""
 
 

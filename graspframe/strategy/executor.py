@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.contacts import Contact
-from graspframe.errors import GraspframeError
+from graspframe.errors import GraspframeError, MotionError
 from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import World
 from graspframe.motion.arm_motion import ArmMotion
@@ -68,6 +68,7 @@ class GraspOutcome:
     fingers_after_lift: list[str]
     lift_height: float
     goals: list[list[float]] = field(default_factory=list)
+    aborted: str | None = None
 
     @property
     def touching_fingers(self) -> list[str]:
@@ -81,6 +82,8 @@ class GraspOutcome:
     @property
     def failure_reason(self) -> str | None:
         """Why the grasp failed, in words (None when it succeeded)."""
+        if self.aborted:
+            return self.aborted
         fingers = self.touching_fingers
         if not fingers:
             return "no real finger touched the object when the hand closed"
@@ -174,11 +177,33 @@ def execute_plan(
     params: ExecutorParams | None = None,
     emit: Emit | None = None,
 ) -> GraspOutcome:
-    """Execute `plan` on `world` (hand on an arm); see the module docstring."""
+    """Execute `plan` on `world` (hand on an arm); see the module docstring.
+
+    When the arm cannot carry the plan out (a pose out of reach, a line through a
+    singularity) the grasp is aborted where it stands and the outcome says why.
+    """
     p = params or ExecutorParams()
     emit = emit or (lambda kind, **data: None)
     if world.object is None:
         raise GraspframeError("executing a grasp needs a world with an object")
+    try:
+        return _execute(plan, world, motion, hand, p, emit)
+    except MotionError as exc:
+        emit("execute.aborted", reason=str(exc))
+        return GraspOutcome(
+            contacts=world.hand.contacts(),
+            T_world_object_at_hold=world.object.T_world_object(),
+            corrections=0,
+            palm_contact=False,
+            held_after_lift=False,
+            object_rise=0.0,
+            fingers_after_lift=[],
+            lift_height=p.lift_height,
+            aborted=f"the arm cannot carry out the plan: {exc}",
+        )
+
+
+def _execute(plan, world, motion, hand, p: ExecutorParams, emit: Emit) -> GraspOutcome:
     preshape = hand.preshape(plan.preshape)
 
     world.hand.set_joint_targets(preshape.open_q)

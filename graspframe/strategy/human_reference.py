@@ -36,7 +36,7 @@ from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import Backend, WorldConfig
 from graspframe.hal.objects import ObjectDescription
 from graspframe.mounting import cache_dir
-from graspframe.strategy.reference_poses import reference_T_object_palm
+from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 
 FORMAT = "graspframe.human_contacts/1"
@@ -129,18 +129,16 @@ def simulate_human_grasp(
     """Perform the grasp with the free-floating human hand and read its contacts.
 
     The hand approaches its reference palm pose along the palm normal from
-    APPROACH_DISTANCE back, stops at the first touch (or at the pose), then closes."""
+    APPROACH_DISTANCE back, then closes."""
     posture = human.preshape_for(grasp)
     T_world_object = make_T(p=[*T_WORLD_OBJECT_XY, obj.half_height])
     world = backend.create_world(
         WorldConfig(hand=human, arm=None, object=obj, T_world_object=T_world_object)
     )
     with world:
-        T_world_palm = T_world_object @ reference_T_object_palm(
-            grasp, obj, grasp_depth=posture.delta
-        )
+        T_world_palm = T_world_object @ reference_placement(obj, posture).T_object_palm
         # Shape the open posture away from the object, then approach along the palm
-        # normal until the hand touches the object or reaches the reference pose.
+        # normal to the reference pose: the posture leaves the object room to come in.
         z_palm = T_world_palm[:3, 2]
         T_start = T_world_palm.copy()
         T_start[:3, 3] -= APPROACH_DISTANCE * z_palm
@@ -153,8 +151,6 @@ def simulate_human_grasp(
             T[:3, 3] += k * APPROACH_STEP * z_palm
             world.hand.set_free_pose(T)
             world.step(1)
-            if world.hand.palm_sensor().touched:
-                break
         world.hand.set_joint_targets(posture.closed_q)
         travel_time = _travel_time(human, posture.open_q, posture.closed_q)
         world.step(round((travel_time + SETTLE_TIME) / world.timestep))

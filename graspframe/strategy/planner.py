@@ -13,10 +13,11 @@ Choices the method leaves open (see docs/method.md):
 - The robot palm takes the human palm orientation relative to the object (the palm
   frames of all hands share one convention).
 - Volar grasps (Large and Small Diameter) aim the palm at the human palm position
-  p_h->o. Non-volar grasps aim at the human grasp point (the human palm position moved
-  along the human palm normal by the human posture's palm-to-fingertip distance) and
-  stop the robot palm delta (its preshape's palm-to-fingertip distance) short of it
-  along the approach.
+  p_h->o. Non-volar grasps aim at the human grasp point (where the human's fingers hold
+  the object) and stop where the robot preshape's grasp centre lands on it. With the
+  default grasp centre (0, 0, delta) and the palm normal along a, this is METHOD's
+  "p_h->o minus delta" along the approach; hands whose fingers close forward of the palm
+  centre declare their grasp centre.
 - A top grasp never drives the fingers into the table: the goal is raised until the
   fingers' closing sweep depth stays TABLE_CLEARANCE above the table top. A non-volar top
   grasp (no feedback) never drives the palm into the object either: the goal stays
@@ -137,15 +138,15 @@ def plan_grasp(
     T_object_hand: NDArray[np.float64],
     T_world_object_est: NDArray[np.float64],
     hand: HandDescription,
-    human_grasp_depth: float = 0.0,
+    p_hand_grasp: NDArray[np.float64] | None = None,
     table_height: float = 0.0,
     object_top_height: float | None = None,
     params: PlannerParams | None = None,
 ) -> GraspPlan:
     """Plan the robot grasp (METHOD.md 4.1-4.3, goals of 4.4 and 4.5).
 
-    human_grasp_depth: [m] palm-to-fingertip distance of the human posture, locating
-        the human grasp point of non-volar grasps.
+    p_hand_grasp: [m] the human grasp point in the human palm frame (where the object
+        sits in the human's hand); None: on the palm normal at the human palm.
     table_height: [m] world height of the table top.
     object_top_height: [m] world height of the top of the object as believed (None:
         unknown, no palm clamp).
@@ -163,9 +164,11 @@ def plan_grasp(
     T_goal = T_world_hand.copy()
     standoff = 0.0
     if not volar:
-        p_grasp = T_world_hand[:3, 3] + human_grasp_depth * T_world_hand[:3, 2]
-        standoff = preshape.delta
-        T_goal[:3, 3] = p_grasp - standoff * a
+        p_hand = np.zeros(3) if p_hand_grasp is None else np.asarray(p_hand_grasp, dtype=float)
+        p_world_grasp = T_world_hand[:3, :3] @ p_hand + T_world_hand[:3, 3]
+        robot_center = np.asarray(preshape.grasp_center_palm, dtype=float)
+        T_goal[:3, 3] = p_world_grasp - T_world_hand[:3, :3] @ robot_center
+        standoff = float(robot_center[2])
     table_raise = 0.0
     if approach == "top":
         lowest = table_height + closing_sweep_depth(hand, preshape.name) + params.table_clearance

@@ -1,61 +1,99 @@
 """Where a human puts the palm, relative to the object, for each of the six grasps.
 
-These are the reference placements used when no image is given (`graspframe run
---grasp ...`) and for the simulated human reference grasps. Objects stand upright with
-their frame at the centroid (z up). Palm frame: +z out of the palm, +x towards the
-fingertips; for a right hand the thumb is on the -y side.
+These are the reference placements used when no image is given (`graspframe run --grasp`)
+and for the simulated human reference grasps. Each human posture carries the object it
+was shaped for (`HandPreshape.posture_object`, in the palm frame); the reference placement
+puts the real object where that design object sits, with its centroid at the design
+centre, moved along the palm normal by the difference between the real and the design
+object's extent (a bigger can sits further from the palm).
 
-- Large and Small Diameter: the hand upright beside the cylinder, palm facing its axis
-  (palm z = object +x), thumb up (palm y = object -z), palm touching the side at
-  mid-height. This is the "Small Diameter orientation" that selects a side approach.
-- Abducted Thumb, Power Sphere, Precision Disc, Pinch: from above, palm facing down
-  (palm z = object -z), fingers along object +x. The palm rests on the top (Abducted
-  Thumb, Power Sphere) or hovers so the fingertips close around the object (Pinch,
-  Precision Disc: `grasp_depth` below the palm, from the human posture).
+Orientation (objects stand upright, z up; palm z out of the palm, x to the fingertips):
+- a cylinder lying across the palm (Large/Small Diameter, Abducted Thumb): its axis is
+  the object's z, the palm faces the object's +x (the palm normal is horizontal), the
+  fingertips point up rather than down (towards the table);
+- a cylinder along the palm normal (a disc) or a ball/block: the palm faces down, palm x
+  along the object's x.
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.grasps import HumanGrasp
+from graspframe.errors import DescriptionError
+from graspframe.hal.descriptions import HandPreshape, PostureObject
 from graspframe.hal.objects import ObjectDescription
 from graspframe.transforms import make_T
 
-# Columns are the palm axes (x, y, z) in the object frame.
-R_OBJECT_PALM_SIDE = np.column_stack([[0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]])
+# Columns are the palm axes (x, y, z) in the object frame: palm facing down.
 R_OBJECT_PALM_TOP = np.column_stack([[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]])
-
-SIDE_GRASPS = frozenset({HumanGrasp.LARGE_DIAMETER, HumanGrasp.SMALL_DIAMETER})
-# Human grasps whose palm rests on the object (the human volar grasps).
-PALM_ON_OBJECT = frozenset(
-    {
-        HumanGrasp.LARGE_DIAMETER,
-        HumanGrasp.SMALL_DIAMETER,
-        HumanGrasp.ABDUCTED_THUMB,
-        HumanGrasp.POWER_SPHERE,
-    }
-)
+# An axis this close to the palm normal counts as "along" it (a disc held from above).
+AXIS_ALONG_NORMAL_COS = 0.7
 
 
-def _half_width_x(obj: ObjectDescription) -> float:
-    """[m] distance from the object's axis to its side along object x."""
+class ReferencePlacement(NamedTuple):
+    """T_object_palm: the human palm in the object frame; p_palm_grasp: [m] the human
+    grasp point (where the object's centroid sits) in the palm frame."""
+
+    T_object_palm: NDArray[np.float64]
+    p_palm_grasp: NDArray[np.float64]
+
+
+def _unit(v) -> NDArray[np.float64]:
+    v = np.asarray(v, dtype=float)
+    return v / np.linalg.norm(v)
+
+
+def _R_object_palm(design: PostureObject) -> NDArray[np.float64]:
+    if design.axis is None or abs(_unit(design.axis)[2]) > AXIS_ALONG_NORMAL_COS:
+        return R_OBJECT_PALM_TOP
+    # Map the palm normal to object +x and the cylinder axis (in the palm plane) to
+    # object -z; the third axis follows.
+    z_palm = np.array([0.0, 0.0, 1.0])
+    u = _unit(design.axis)
+    u = _unit(u - (u @ z_palm) * z_palm)
+    palm_basis = np.column_stack([z_palm, u, np.cross(z_palm, u)])
+    x_obj, minus_z_obj = np.array([1.0, 0.0, 0.0]), np.array([0.0, 0.0, -1.0])
+    object_basis = np.column_stack([x_obj, minus_z_obj, np.cross(x_obj, minus_z_obj)])
+    R = object_basis @ palm_basis.T
+    if R[2, 0] < 0.0:
+        # The fingers (palm x) would point down into the table: turn the hand half a
+        # turn about its palm normal (the object's x), so the axis maps to +z instead.
+        R = np.diag([1.0, -1.0, -1.0]) @ R
+    return R
+
+
+def _design_extent_along_normal(design: PostureObject) -> float:
+    if design.axis is not None and abs(_unit(design.axis)[2]) > AXIS_ALONG_NORMAL_COS:
+        return (design.length or 0.0) / 2
+    return design.radius
+
+
+def object_extent_along(obj: ObjectDescription, n_object) -> float:
+    """[m] half-extent of an upright object along the unit direction n_object."""
+    n = np.abs(_unit(n_object))
     d = obj.dimensions
-    return d["size_x"] / 2 if obj.shape == "box" else d["radius"]
+    if obj.shape == "box":
+        return float(n @ [d["size_x"] / 2, d["size_y"] / 2, d["size_z"] / 2])
+    if obj.shape == "cylinder":
+        return float(n[2] * d["length"] / 2 + np.sqrt(max(0.0, 1 - n[2] ** 2)) * d["radius"])
+    return d["radius"]
 
 
-def reference_T_object_palm(
-    grasp: HumanGrasp, obj: ObjectDescription, grasp_depth: float = 0.0
-) -> NDArray[np.float64]:
-    """Pose of the human palm frame in the object frame for `grasp` on `obj`.
-
-    grasp_depth: [m] for fingertip grasps from above (Pinch, Precision Disc), how far
-        below the palm the fingertips close (from the human posture); the palm is put so
-        that they close at the object's centroid height.
-    """
-    if grasp in SIDE_GRASPS:
-        return make_T(R_OBJECT_PALM_SIDE, [-_half_width_x(obj), 0.0, 0.0])
-    if grasp in PALM_ON_OBJECT:
-        return make_T(R_OBJECT_PALM_TOP, [0.0, 0.0, obj.half_height])
-    return make_T(R_OBJECT_PALM_TOP, [0.0, 0.0, grasp_depth])
+def reference_placement(obj: ObjectDescription, posture: HandPreshape) -> ReferencePlacement:
+    """The human palm pose in the object frame for `posture` holding `obj`."""
+    design = posture.posture_object
+    if design is None:
+        raise DescriptionError(
+            f"posture {posture.name!r} has no posture_object; the reference placement needs "
+            "the object the posture is shaped for"
+        )
+    R = _R_object_palm(design)
+    normal_in_object = R[:, 2]
+    p_palm_grasp = np.array(design.centre, dtype=float)
+    p_palm_grasp[2] += object_extent_along(obj, normal_in_object) - _design_extent_along_normal(
+        design
+    )
+    return ReferencePlacement(make_T(R, -R @ p_palm_grasp), p_palm_grasp)

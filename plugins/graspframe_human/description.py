@@ -1,0 +1,470 @@
+"""The human right hand as data: the reference hand for scoring (and for rendering).
+
+Model: robots/human/human.urdf, written by tools/robot_models/human.py for a 190 mm hand
+(Buchholz et al. segment ratios from ROBOTS.md; every number and assumption is listed in
+docs/robots/human.md). 20 joints: per finger ab/adduction and flexion at the knuckle, the
+PIP, and the DIP, which is a URDF <mimic> of the PIP at 2/3 (so not a driven joint); the
+thumb has CMC abduction and flexion, MCP and IP. Angles [rad]; positive flexion bends
+towards the palm, positive finger ab/adduction turns a finger towards the little finger.
+
+Frames (links of the URDF):
+- hh_wrist (root): the wrist crease, mid-plane of the palm; +z along the hand towards the
+  fingers, +x out of the back of the hand, +y towards the little finger.
+- hh_palm_frame: centre of the palmar surface (outer face of the pad), +x towards the
+  fingertips, +z out of the palm on the palmar side, y = z x x; the thumb is on its -y side.
+- hh_<digit>_tip: fingertip markers at the end of each digit.
+
+Instead of robot preshapes the human hand has one posture per human grasp, named by the
+grasp (grasp_map is the identity). open_q is the pre-grasp posture (shaped for the object,
+open enough for it to come in along the palm normal), closed_q the closing targets past
+contact with the object; closed_q stays clear of self-collision so the hand reaches it in
+free space. The postures were fitted to the design objects in extras["posture_objects"]
+(shapes in the palm frame) by forward kinematics and collision distances (see the doc).
+"""
+
+from __future__ import annotations
+
+import math
+
+from graspframe.grasps import PALM, THUMB, HumanGrasp
+from graspframe.hal.descriptions import (
+    Coupling,
+    DriveGains,
+    HandDescription,
+    HandPreshape,
+    JointSpec,
+    PostureObject,
+)
+from graspframe_robots import model_path
+
+NAME = "human"
+MODEL_FILE = "human/human.urdf"
+HAND_LENGTH = 0.19  # [m] the chosen adult size (ROBOTS.md: about 190 mm)
+ROOT_LINK = "hh_wrist"
+PALM_FRAME = "hh_palm_frame"
+PALM_SENSOR_LINK = "hh_palm_pad"
+FINGERS = ("index", "middle", "ring", "little")
+DIGITS = (THUMB, *FINGERS)
+DIP_PER_PIP = 2.0 / 3.0  # ROBOTS.md: the end joint is coupled to the middle one at ~2/3
+
+DEG = math.pi / 180.0
+# Limits [deg], equal to the generator's (the contract checks them against the URDF).
+# ROBOTS.md: ab/adduction +-20 index, +-10 middle, +-20 ring, +-30 little; MCP and PIP
+# -10..90. Thumb: our assumption from typical human ranges (docs/robots/human.md).
+ABD_LIMIT_DEG = {"index": 20.0, "middle": 10.0, "ring": 20.0, "little": 30.0}
+FLEX_LIMITS_DEG = (-10.0, 90.0)
+THUMB_LIMITS_DEG = {
+    "cmc_abd": (-10.0, 100.0),
+    "cmc_flex": (-20.0, 50.0),
+    "mcp": (-10.0, 60.0),
+    "ip": (-20.0, 80.0),
+}
+VELOCITY_LIMIT = 5.0  # [rad/s] assumption: fast voluntary finger motion
+EFFORT_LIMITS = {  # [N m] assumption, equal to the URDF's
+    "abd": 1.0,
+    "mcp": 3.0,
+    "pip": 1.5,
+    "thumb_cmc_abd": 3.0,
+    "thumb_cmc_flex": 3.0,
+    "thumb_mcp": 2.0,
+    "thumb_ip": 1.0,
+}
+
+
+def _joint(name: str, limits_deg: tuple[float, float], effort: float) -> JointSpec:
+    return JointSpec(
+        f"hh_{name}",
+        limits_deg[0] * DEG,
+        limits_deg[1] * DEG,
+        max_velocity=VELOCITY_LIMIT,
+        max_effort=effort,
+    )
+
+
+JOINTS = (
+    *(
+        _joint(f"thumb_{j}", THUMB_LIMITS_DEG[j], EFFORT_LIMITS[f"thumb_{j}"])
+        for j in ("cmc_abd", "cmc_flex", "mcp", "ip")
+    ),
+    *(
+        spec
+        for f in FINGERS
+        for spec in (
+            _joint(f"{f}_abd", (-ABD_LIMIT_DEG[f], ABD_LIMIT_DEG[f]), EFFORT_LIMITS["abd"]),
+            _joint(f"{f}_mcp", FLEX_LIMITS_DEG, EFFORT_LIMITS["mcp"]),
+            _joint(f"{f}_pip", FLEX_LIMITS_DEG, EFFORT_LIMITS["pip"]),
+        )
+    ),
+)
+
+COUPLINGS = tuple(
+    Coupling(f"hh_{f}_dip", f"hh_{f}_pip", DIP_PER_PIP, in_model=True) for f in FINGERS
+)
+
+# Postures [deg] per human grasp: (open, closed, delta [m]). Joint keys without the hh_
+# prefix. delta: the mean height of the five fingertip markers above the palm surface
+# (along palm +z) in the open posture, from forward kinematics (a test recomputes it). The
+# mean, not the highest: one digit held out of the way (an extended thumb) would dominate.
+_POSTURES_DEG = {
+    # Bottle, diameter 80 mm, across the palm: fingers curved but open, thumb abducted
+    # out of the palm and extended; closing wraps fingers and thumb around it.
+    HumanGrasp.LARGE_DIAMETER: (
+        {
+            "index_abd": 0,
+            "index_mcp": 16,
+            "index_pip": 24,
+            "middle_abd": 0,
+            "middle_mcp": 23,
+            "middle_pip": 31,
+            "ring_abd": 0,
+            "ring_mcp": 21,
+            "ring_pip": 28,
+            "little_abd": 0,
+            "little_mcp": 18,
+            "little_pip": 18,
+            "thumb_cmc_abd": 95,
+            "thumb_cmc_flex": -17,
+            "thumb_mcp": -4,
+            "thumb_ip": 9,
+        },
+        {
+            "index_abd": 0,
+            "index_mcp": 47,
+            "index_pip": 63,
+            "middle_abd": 0,
+            "middle_mcp": 59,
+            "middle_pip": 74,
+            "ring_abd": 0,
+            "ring_mcp": 57,
+            "ring_pip": 69,
+            "little_abd": 0,
+            "little_mcp": 52,
+            "little_pip": 52,
+            "thumb_cmc_abd": 95,
+            "thumb_cmc_flex": -1,
+            "thumb_mcp": 18,
+            "thumb_ip": 53,
+        },
+        0.0519,
+    ),
+    # Handle, diameter 25 mm, across the distal palm: fingers hooked, closing wraps them
+    # fully; the thumb closes over the index.
+    HumanGrasp.SMALL_DIAMETER: (
+        {
+            "index_abd": 0,
+            "index_mcp": 21,
+            "index_pip": 38,
+            "middle_abd": 0,
+            "middle_mcp": 42,
+            "middle_pip": 58,
+            "ring_abd": 0,
+            "ring_mcp": 43,
+            "ring_pip": 61,
+            "little_abd": 0,
+            "little_mcp": 37,
+            "little_pip": 52,
+            "thumb_cmc_abd": 68,
+            "thumb_cmc_flex": -14,
+            "thumb_mcp": 20,
+            "thumb_ip": 13,
+        },
+        {
+            "index_abd": 0,
+            "index_mcp": 44,
+            "index_pip": 80,
+            "middle_abd": 0,
+            "middle_mcp": 84,
+            "middle_pip": 90,
+            "ring_abd": 0,
+            "ring_mcp": 83,
+            "ring_pip": 90,
+            "little_abd": 0,
+            "little_mcp": 77,
+            "little_pip": 90,
+            "thumb_cmc_abd": 68,
+            "thumb_cmc_flex": -7,
+            "thumb_mcp": 52,
+            "thumb_ip": 38,
+        },
+        0.0600,
+    ),
+    # Cylinder, diameter 50 mm, lying obliquely across the palm: the fingers wrap it, the
+    # thumb is not opposed but lies extended along the cylinder axis.
+    HumanGrasp.ABDUCTED_THUMB: (
+        {
+            "index_abd": 0,
+            "index_mcp": 18,
+            "index_pip": 36,
+            "middle_abd": 0,
+            "middle_mcp": 46,
+            "middle_pip": 52,
+            "ring_abd": 0,
+            "ring_mcp": 59,
+            "ring_pip": 40,
+            "little_abd": 0,
+            "little_mcp": 74,
+            "little_pip": 28,
+            "thumb_cmc_abd": 27,
+            "thumb_cmc_flex": 4,
+            "thumb_mcp": -3,
+            "thumb_ip": -9,
+        },
+        {
+            "index_abd": 0,
+            "index_mcp": 55,
+            "index_pip": 90,
+            "middle_abd": 0,
+            "middle_mcp": 84,
+            "middle_pip": 90,
+            "ring_abd": 0,
+            "ring_mcp": 90,
+            "ring_pip": 76,
+            "little_abd": 0,
+            "little_mcp": 90,
+            "little_pip": 54,
+            "thumb_cmc_abd": 27,
+            "thumb_cmc_flex": 15,
+            "thumb_mcp": 6,
+            "thumb_ip": -1,
+        },
+        0.0560,
+    ),
+    # Small object (a 20 mm ball) between the thumb tip and the index tip, the middle
+    # finger alongside the index; ring and little curled out of the way.
+    HumanGrasp.PINCH: (
+        {
+            "index_abd": 0,
+            "index_mcp": 30,
+            "index_pip": 25,
+            "middle_abd": 0,
+            "middle_mcp": 35,
+            "middle_pip": 30,
+            "ring_abd": 0,
+            "ring_mcp": 60,
+            "ring_pip": 70,
+            "little_abd": 0,
+            "little_mcp": 65,
+            "little_pip": 70,
+            "thumb_cmc_abd": 81,
+            "thumb_cmc_flex": 2,
+            "thumb_mcp": 18,
+            "thumb_ip": -1,
+        },
+        {
+            "index_abd": 0,
+            "index_mcp": 42,
+            "index_pip": 58,
+            "middle_abd": 0,
+            "middle_mcp": 47,
+            "middle_pip": 63,
+            "ring_abd": 0,
+            "ring_mcp": 60,
+            "ring_pip": 70,
+            "little_abd": 0,
+            "little_mcp": 65,
+            "little_pip": 70,
+            "thumb_cmc_abd": 95,
+            "thumb_cmc_flex": 8,
+            "thumb_mcp": 30,
+            "thumb_ip": 18,
+        },
+        0.0576,
+    ),
+    # Ball, diameter 90 mm, in the palm: fingers spread and curved, thumb opposed.
+    HumanGrasp.POWER_SPHERE: (
+        {
+            "index_abd": -15,
+            "index_mcp": 49,
+            "index_pip": 29,
+            "middle_abd": -4,
+            "middle_mcp": 34,
+            "middle_pip": 33,
+            "ring_abd": 10,
+            "ring_mcp": 35,
+            "ring_pip": 31,
+            "little_abd": 22,
+            "little_mcp": 57,
+            "little_pip": 6,
+            "thumb_cmc_abd": 100,
+            "thumb_cmc_flex": -20,
+            "thumb_mcp": 5,
+            "thumb_ip": -3,
+        },
+        {
+            "index_abd": -15,
+            "index_mcp": 68,
+            "index_pip": 44,
+            "middle_abd": -4,
+            "middle_mcp": 66,
+            "middle_pip": 65,
+            "ring_abd": 10,
+            "ring_mcp": 65,
+            "ring_pip": 60,
+            "little_abd": 22,
+            "little_mcp": 86,
+            "little_pip": 27,
+            "thumb_cmc_abd": 100,
+            "thumb_cmc_flex": -12,
+            "thumb_mcp": 36,
+            "thumb_ip": 14,
+        },
+        0.0715,
+    ),
+    # Disc (lid), diameter 90 mm, held by the fingertips in front of the palm: fingers
+    # spread around its rim, the thumb on the opposite side; the palm does not touch.
+    HumanGrasp.PRECISION_DISC: (
+        {
+            "index_abd": -20,
+            "index_mcp": 38,
+            "index_pip": 37,
+            "middle_abd": -6,
+            "middle_mcp": 34,
+            "middle_pip": 34,
+            "ring_abd": 12,
+            "ring_mcp": 32,
+            "ring_pip": 33,
+            "little_abd": 26,
+            "little_mcp": 40,
+            "little_pip": 34,
+            "thumb_cmc_abd": 100,
+            "thumb_cmc_flex": -20,
+            "thumb_mcp": -3,
+            "thumb_ip": 28,
+        },
+        {
+            "index_abd": -20,
+            "index_mcp": 59,
+            "index_pip": 57,
+            "middle_abd": -6,
+            "middle_mcp": 54,
+            "middle_pip": 54,
+            "ring_abd": 12,
+            "ring_mcp": 53,
+            "ring_pip": 54,
+            "little_abd": 26,
+            "little_mcp": 65,
+            "little_pip": 58,
+            "thumb_cmc_abd": 100,
+            "thumb_cmc_flex": -5,
+            "thumb_mcp": 20,
+            "thumb_ip": 79,
+        },
+        0.0680,
+    ),
+}
+
+
+def _rad(q_deg: dict[str, float]) -> dict[str, float]:
+    return {f"hh_{name}": value * DEG for name, value in q_deg.items()}
+
+
+# The objects the postures were fitted to, in the palm frame at the 190 mm size: centre
+# [m], axis (unit vector; cylinders), radius and length [m]. Where a grasped object sits
+# relative to the palm in each posture (the reference grasps are placed from these).
+POSTURE_OBJECTS = {
+    HumanGrasp.LARGE_DIAMETER.value: {
+        "shape": "cylinder",
+        "radius": 0.040,
+        "length": 0.25,
+        "centre": (0.035, -0.005, 0.0405),
+        "axis": (-0.1736, 0.9848, 0.0),
+    },
+    HumanGrasp.SMALL_DIAMETER.value: {
+        "shape": "cylinder",
+        "radius": 0.0125,
+        "length": 0.25,
+        "centre": (0.035, -0.005, 0.013),
+        "axis": (-0.2588, 0.9659, 0.0),
+    },
+    HumanGrasp.ABDUCTED_THUMB.value: {
+        "shape": "cylinder",
+        "radius": 0.025,
+        "length": 0.25,
+        "centre": (0.010, 0.0, 0.0255),
+        "axis": (0.6428, -0.7660, 0.0),
+    },
+    HumanGrasp.PINCH.value: {
+        "shape": "sphere",
+        "radius": 0.010,
+        "centre": (0.0749, -0.0329, 0.0514),
+    },
+    HumanGrasp.POWER_SPHERE.value: {
+        "shape": "sphere",
+        "radius": 0.045,
+        "centre": (0.030, -0.008, 0.0455),
+    },
+    HumanGrasp.PRECISION_DISC.value: {
+        "shape": "cylinder",
+        "radius": 0.045,
+        "length": 0.016,
+        "centre": (0.040, -0.010, 0.060),
+        "axis": (0.0, 0.0, 1.0),
+    },
+}
+
+
+def _posture_object(spec: dict) -> PostureObject:
+    return PostureObject(
+        shape=spec["shape"],
+        centre=tuple(spec["centre"]),
+        radius=spec["radius"],
+        axis=tuple(spec["axis"]) if "axis" in spec else None,
+        length=spec.get("length"),
+    )
+
+
+PRESHAPES = {
+    grasp.value: HandPreshape(
+        grasp.value,
+        _rad(open_deg),
+        _rad(closed_deg),
+        delta,
+        posture_object=_posture_object(POSTURE_OBJECTS[grasp.value]),
+    )
+    for grasp, (open_deg, closed_deg, delta) in _POSTURES_DEG.items()
+}
+GRASP_MAP = {grasp: grasp.value for grasp in HumanGrasp}
+
+
+def _finger_links(finger: str) -> tuple[str, ...]:
+    parts = ("knuckle", "proximal", "intermediate", "distal", "tip")
+    return tuple(f"hh_{finger}_{part}" for part in parts)
+
+
+# Every link belongs to one real finger. The thenar eminence (on the link hh_thumb_cmc,
+# which moves only with the CMC abduction) and the finger metacarpals count as palm; the
+# moving thumb metacarpal counts as thumb.
+REAL_FINGERS = {
+    THUMB: ("hh_thumb_metacarpal", "hh_thumb_proximal", "hh_thumb_distal", "hh_thumb_tip"),
+    **{finger: _finger_links(finger) for finger in FINGERS},
+    PALM: (
+        ROOT_LINK,
+        PALM_SENSOR_LINK,
+        PALM_FRAME,
+        "hh_thumb_cmc",
+        *(f"hh_{finger}_metacarpal" for finger in FINGERS),
+    ),
+}
+
+HUMAN = HandDescription(
+    name=NAME,
+    model_path=model_path(MODEL_FILE),
+    root_link=ROOT_LINK,
+    joints=JOINTS,
+    palm_frame=PALM_FRAME,
+    palm_sensor_link=PALM_SENSOR_LINK,
+    real_fingers=REAL_FINGERS,
+    preshapes=PRESHAPES,
+    grasp_map=GRASP_MAP,
+    # Moderate muscle-like drives (assumption): stiff enough to hold a posture against
+    # gravity within a fraction of a degree, soft enough to conform to an object.
+    drive=DriveGains(stiffness=5.0, damping=0.2, force_limit=3.0),
+    couplings=COUPLINGS,
+    mass=0.464,  # [kg] sum of the URDF's link masses (0.45 kg of shapes + marker links)
+    summary="Human right hand (reference), 190 mm: 20 joints, 16 driven + 4 coupled DIP",
+    extras={
+        "hand_length": HAND_LENGTH,
+        "side": "right",
+        "fingertip_links": tuple(f"hh_{digit}_tip" for digit in DIGITS),
+    },
+)

@@ -1,0 +1,9 @@
+"""Registers the human right hand (the reference hand) with graspframe."""
+
+from graspframe.plugins import hookimpl
+from graspframe_human.description import HUMAN
+
+
+@hookimpl
+def graspframe_register_hands(register):
+    register(HUMAN)
