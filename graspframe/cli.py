@@ -207,10 +207,86 @@ def classify() -> None:
     raise _not_yet("graspframe classify")
 
 
+def _names_option(text: str, kind: str, known: list[str]) -> tuple[str, ...]:
+    """A comma-separated list of names (or "all"), each checked against the known ones."""
+    if text.strip() == "all":
+        return tuple(known)
+    names = tuple(n.strip() for n in text.split(",") if n.strip())
+    for name in names:
+        if name not in known:
+            from graspframe.errors import UnknownNameError
+
+            raise UnknownNameError(kind, name, known)
+    if not names:
+        raise InputError(f"no {kind} given; pass a comma-separated list or 'all'")
+    return names
+
+
 @app.command()
-def evaluate() -> None:
-    """Reproduce experiments A and B for the robot hands."""
-    raise _not_yet("graspframe evaluate")
+def evaluate(
+    hands: Annotated[str, typer.Option(help="Comma-separated hands.")] = "barrett,karlsruhe",
+    grasps: Annotated[str, typer.Option(help="Comma-separated grasps, or 'all'.")] = "all",
+    rho_mm: Annotated[
+        float, typer.Option(help="Object position error of experiment B [mm].")
+    ] = 50.0,
+    directions: Annotated[
+        int, typer.Option(help="Directions of the error in the table plane.")
+    ] = 6,
+    workers: Annotated[int, typer.Option(help="Trials run in parallel.")] = 2,
+    executor: Annotated[str, typer.Option(help="local (processes here) or dask.")] = "local",
+    scheduler: Annotated[
+        str | None, typer.Option(help="Dask scheduler address (default: a local cluster).")
+    ] = None,
+    out: Annotated[Path, typer.Option(help="Output folder (rerun to resume).")] = Path(
+        "runs/evaluate"
+    ),
+    seed: Annotated[int, typer.Option(help="Seed of every trial.")] = 0,
+    time_limit: Annotated[float, typer.Option(help="Per-trial wall-time limit [s].")] = 300.0,
+) -> None:
+    """Experiments A (perfect perception) and B (object position error) for the hands."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
+
+    from graspframe.experiments.summary import plot_summary, summarize, write_tables
+    from graspframe.experiments.sweep import SweepConfig, plan_trials, run_sweep
+    from graspframe.grasps import HumanGrasp
+    from graspframe.registry import default_registry
+
+    registry = default_registry()
+    config = SweepConfig(
+        hands=_names_option(hands, "hand", registry.names("hand")),
+        grasps=_names_option(grasps, "grasp", [g.value for g in HumanGrasp]),
+        out_dir=out,
+        rho=rho_mm / 1000.0,
+        directions=directions,
+        workers=workers,
+        executor=executor,
+        scheduler=scheduler,
+        seed=seed,
+        time_limit=time_limit,
+    )
+    total = len(plan_trials(config))
+    with Progress(
+        "[progress.description]{task.description}",
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        console=err_console,
+    ) as progress:
+        task = progress.add_task("trials", total=total)
+
+        def on_trial(row: dict, done: int, _total: int) -> None:
+            state = "ok" if row.get("success") else row.get("error") or row.get("failure_reason")
+            progress.update(task, completed=done, description=f"{row['trial_id']}: {state}"[:60])
+
+        rows = run_sweep(config, on_trial=on_trial)
+        progress.update(task, completed=len(rows))
+    summary = summarize(rows)
+    csv_path, md_path = write_tables(summary, out)
+    figure = plot_summary(summary, out / "summary.png")
+    console.print(md_path.read_text(), markup=False, highlight=False)
+    console.print(
+        f"trials: {out / 'trials.jsonl'}\nsummary: {csv_path}, {md_path}\nfigure: {figure}"
+    )
 
 
 @app.command()

@@ -269,8 +269,8 @@ def test_mass():
 def test_palm_frame_pose(fk):
     model, data = fk({})
     T_base_palm = data.oMf[model.getFrameId(BARRETT.palm_frame)]
-    # Origin at the palm surface centre, in the plane of the flexion axes (our choice).
-    np.testing.assert_allclose(T_base_palm.translation, [0, 0, 75.4 * MM], atol=POSITION_TOL)
+    # Origin at the palm surface centre, Dw = 84 mm from the flange (ROBOTS.md).
+    np.testing.assert_allclose(T_base_palm.translation, [0, 0, 84 * MM], atol=POSITION_TOL)
     R = T_base_palm.rotation
     # 1e-5: the URDF writes angles to 6 significant digits (pi/2 -> 1.5708).
     np.testing.assert_allclose(R[:, 2], [0, 0, 1], atol=1e-5)  # out of the palm

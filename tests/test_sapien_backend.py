@@ -142,8 +142,8 @@ def test_a_barrett_finger_closing_on_a_cylinder_wraps():
     q = world.hand.joint_positions()
     for prox, q_held in held.items():
         assert q_held < math.radians(80), "the proximal should stop on the can, not upright"
-        # Held by the stiffened drive: about 1 deg of give under the wrap's reaction.
-        assert q[prox] == pytest.approx(q_held, abs=math.radians(2))
+        # Held by the stiffened drive: 1-2 deg of give under the wrap's reaction.
+        assert q[prox] == pytest.approx(q_held, abs=math.radians(3))
         # Measured here: about 8 deg of further distal closing; 4 deg is clearly more than
         # drive compliance.
         dist = prox.replace("_prox", "_dist")

@@ -40,6 +40,8 @@ from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 
 FORMAT = "graspframe.human_contacts/1"
+# Part of the cache key: bump it when the way references are simulated changes.
+PROCEDURE_VERSION = 2
 SETTLE_TIME = 1.0  # [s] after the slowest joint could have reached its closed target
 # The hand takes its open posture this far back along its palm normal, then approaches
 # in small kinematic steps (it floats: its pose is set, not driven).
@@ -172,8 +174,9 @@ def _travel_time(hand: HandDescription, q_from: dict, q_to: dict) -> float:
 
 
 def _cache_key(grasp: HumanGrasp, obj: ObjectDescription, human: HandDescription) -> str:
-    digest = hashlib.sha256()
+    digest = hashlib.sha256(f"procedure {PROCEDURE_VERSION}".encode())
     digest.update(Path(human.model_path).read_bytes())
+    digest.update(reference_placement(obj, human.preshape_for(grasp)).T_object_palm.tobytes())
     digest.update(repr(sorted(human.preshape_for(grasp).closed_q.items())).encode())
     digest.update(repr(sorted(human.preshape_for(grasp).open_q.items())).encode())
     digest.update(repr((obj.shape, sorted(obj.dimensions.items()), obj.mass)).encode())

@@ -77,13 +77,14 @@ PRESHAPES = {
     p.name: p
     for p in (
         # Large aperture (fingertips ~29 cm apart), fingers 1-2 opposing the thumb;
-        # closing targets well past contact so the fingers wrap.
-        HandPreshape(Preshape.WRAP.value, hand_q(0, 10), hand_q(0, 130), delta=0.0533),
+        # closing targets at the proximal limit (140 deg), well past contact, so the
+        # fingers wrap: a 2.5 cm handle on the palm is first touched at ~135 deg.
+        HandPreshape(Preshape.WRAP.value, hand_q(0, 10), hand_q(0, 140), delta=0.0447),
         # Fingertip grasp: tips ~7 cm apart (along the palm x axis) when open; the closed
         # targets lie ~13 deg past the angle where the tips meet (~92 deg), to squeeze.
-        HandPreshape(Preshape.PRECISION.value, hand_q(0, 72), hand_q(0, 105), delta=0.0999),
+        HandPreshape(Preshape.PRECISION.value, hand_q(0, 72), hand_q(0, 105), delta=0.0913),
         # Spread 60 deg: the three fingers' closing planes are 120 deg apart.
-        HandPreshape(Preshape.PRECISION_DISC.value, hand_q(60, 30), hand_q(60, 130), delta=0.0845),
+        HandPreshape(Preshape.PRECISION_DISC.value, hand_q(60, 30), hand_q(60, 130), delta=0.0759),
     )
 }
 

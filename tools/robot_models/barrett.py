@@ -46,10 +46,10 @@ PAD_HALF_Y = 21.5 * MM
 HAND_MASS = 1.2  # [kg] about 1.2 kg
 
 # --- Our assumptions (ROBOTS.md is silent) ----------------------------------------------
-# Palm surface in the plane of the flexion axes: the manufacturer's kinematics put the palm
-# (Dw, "wrist to palm") at the height of the flexion axes (no offset between the spread
-# frame and the flexion axis along the palm normal).
-PALM_SURFACE_Z = FLEXION_AXIS_Z
+# Palm surface at Dw = 84 mm ("wrist to palm", ROBOTS.md), 8.6 mm above the plane of the
+# flexion axes (75.4 mm). A palm in the flexion plane would contradict Dw, and there the
+# closed wrap fingers passed 2-5 mm clear of a 2.5 cm handle lying on the palm.
+PALM_SURFACE_Z = 84 * MM
 PAD_THICKNESS = 3 * MM  # a thin tactile pad on top of the palm plate
 PLATE_HALF_X = PAD_HALF_X  # palm plate under the pad, closing the palm body up to the pad
 PLATE_HALF_Y = 30 * MM  # pad plus a rim; clear of the knuckles (>= 42 mm from the axis)

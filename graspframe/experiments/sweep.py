@@ -1,0 +1,168 @@
+"""Experiment sweeps: every (hand, grasp, condition) trial, resumable, local or on Dask.
+
+Each finished trial is appended to `<out>/trials.jsonl` as one JSON line the moment it
+finishes; rerunning the same sweep skips the trials already there (a line cut short by
+a kill is ignored, so that trial runs again). Conditions: "A" is perfect perception,
+"B0".."B<n-1>" the object position error rho in direction beta_k = 2 pi k / n.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor, as_completed
+from dataclasses import dataclass
+from pathlib import Path
+
+from graspframe.errors import InputError
+from graspframe.experiments.trials import (
+    CONDITION_A,
+    TRIAL_TIME_LIMIT,
+    TrialSpec,
+    experiment_b_errors,
+    run_trial_isolated,
+)
+
+EXECUTORS = ("local", "dask")
+TRIALS_FILE = "trials.jsonl"
+
+
+@dataclass(frozen=True)
+class SweepConfig:
+    """hands, grasps: names; rho: object error radius [m]; directions: of experiment B
+    (0: experiment A only); executor: "local" (processes here) or "dask"; scheduler: a
+    Dask scheduler address (None: a local Dask cluster); time_limit: per trial [s]."""
+
+    hands: tuple[str, ...]
+    grasps: tuple[str, ...]
+    out_dir: Path
+    rho: float = 0.05
+    directions: int = 6
+    workers: int = 2
+    executor: str = "local"
+    scheduler: str | None = None
+    seed: int = 0
+    time_limit: float = TRIAL_TIME_LIMIT
+    arm: str = "kuka"
+
+    def __post_init__(self) -> None:
+        if self.executor not in EXECUTORS:
+            raise InputError(
+                f"unknown executor {self.executor!r}; executors: {', '.join(EXECUTORS)}"
+            )
+        if self.workers < 1 or self.directions < 0 or not self.rho >= 0:
+            raise InputError("a sweep needs workers >= 1, directions >= 0 and rho >= 0")
+
+
+def plan_trials(config: SweepConfig) -> list[TrialSpec]:
+    runs_dir = str(Path(config.out_dir) / "runs")
+    conditions = [(CONDITION_A, (0.0, 0.0))]
+    conditions += experiment_b_errors(config.rho, config.directions)
+    return [
+        TrialSpec(hand, grasp, condition, error, config.seed, runs_dir, config.arm)
+        for hand in config.hands
+        for grasp in config.grasps
+        for condition, error in conditions
+    ]
+
+
+def load_finished(path: Path) -> dict[str, dict]:
+    """trial_id -> row of every complete line of a trials file."""
+    finished: dict[str, dict] = {}
+    if not path.is_file():
+        return finished
+    for line in path.read_text().splitlines():
+        try:
+            row = json.loads(line)
+        except json.JSONDecodeError:
+            continue  # a line cut short by a kill: that trial runs again
+        if isinstance(row, dict) and "trial_id" in row:
+            finished[row["trial_id"]] = row
+    return finished
+
+
+def _append(path: Path, row: dict) -> None:
+    # A kill can leave a last line without its newline: start on a fresh line then.
+    cut_short = path.is_file() and path.stat().st_size > 0 and not _ends_with_newline(path)
+    with path.open("a") as stream:
+        stream.write(("\n" if cut_short else "") + json.dumps(row) + "\n")
+        stream.flush()
+        os.fsync(stream.fileno())
+
+
+def _ends_with_newline(path: Path) -> bool:
+    with path.open("rb") as stream:
+        stream.seek(-1, os.SEEK_END)
+        return stream.read(1) == b"\n"
+
+
+def _run_local(todo: list[TrialSpec], config: SweepConfig) -> Iterator[dict]:
+    # Threads only wait: each trial runs in a process of its own (run_trial_isolated).
+    with ThreadPoolExecutor(max_workers=config.workers) as pool:
+        futures = [pool.submit(run_trial_isolated, spec, config.time_limit) for spec in todo]
+        for future in as_completed(futures):
+            yield future.result()
+
+
+def _run_dask(todo: list[TrialSpec], config: SweepConfig) -> Iterator[dict]:
+    try:
+        import dask
+        from distributed import Client, LocalCluster
+        from distributed import as_completed as dask_as_completed
+    except ImportError:
+        raise InputError(
+            "the dask executor needs Dask distributed: pip install 'graspframe[dask]'"
+        ) from None
+    # Workers must be allowed to start the per-trial processes.
+    with dask.config.set({"distributed.worker.daemon": False}):
+        if config.scheduler:
+            client, cluster = Client(config.scheduler), None
+        else:
+            cluster = LocalCluster(
+                n_workers=config.workers,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+            )
+            client = Client(cluster)
+        try:
+            futures = client.map(run_trial_isolated, todo, time_limit=config.time_limit, pure=False)
+            spec_of = dict(zip(futures, todo, strict=True))
+            for future in dask_as_completed(futures):
+                try:
+                    yield future.result()
+                except Exception as exc:  # the worker itself was lost
+                    spec = spec_of[future]
+                    yield {
+                        "trial_id": spec.trial_id,
+                        "status": "failed",
+                        "error": f"{type(exc).__name__}: {exc}",
+                    }
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+def run_sweep(
+    config: SweepConfig, on_trial: Callable[[dict, int, int], None] | None = None
+) -> list[dict]:
+    """Run every trial not yet in the trials file; returns all rows in plan order.
+
+    on_trial(row, done, total) is called after each finished trial (progress)."""
+    out_dir = Path(config.out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    trials_path = out_dir / TRIALS_FILE
+    specs = plan_trials(config)
+    finished = load_finished(trials_path)
+    todo = [spec for spec in specs if spec.trial_id not in finished]
+    done = len(specs) - len(todo)
+    runner = _run_local if config.executor == "local" else _run_dask
+    for row in runner(todo, config) if todo else ():
+        _append(trials_path, row)
+        finished[row["trial_id"]] = row
+        done += 1
+        if on_trial is not None:
+            on_trial(row, done, len(specs))
+    return [finished[spec.trial_id] for spec in specs if spec.trial_id in finished]

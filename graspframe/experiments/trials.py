@@ -1,0 +1,123 @@
+"""One trial of an experiment: a grasp run reduced to the numbers the summary needs.
+
+A trial runs in a process of its own (spawned fresh), so a crash or a hang in the
+simulator costs that trial only: `run_trial_isolated` waits for it up to a time limit,
+kills it past that, and returns a row that says what happened in every case.
+"""
+
+from __future__ import annotations
+
+import math
+import multiprocessing
+import time
+from dataclasses import asdict, dataclass
+
+from graspframe.grasps import HumanGrasp
+
+CONDITION_A = "A"
+TRIAL_TIME_LIMIT = 300.0  # [s] wall time before a trial is killed and recorded as failed
+
+
+@dataclass(frozen=True)
+class TrialSpec:
+    """hand, grasp; condition "A" (perfect perception) or "B<k>" (object error rho in
+    direction beta_k); object_error: [m] (dx, dy) the robot adds to the object position."""
+
+    hand: str
+    grasp: str
+    condition: str
+    object_error: tuple[float, float]
+    seed: int
+    runs_dir: str
+    arm: str = "kuka"
+
+    @property
+    def trial_id(self) -> str:
+        return f"{self.hand}/{self.grasp}/{self.condition}"
+
+
+def experiment_b_errors(rho: float, directions: int) -> list[tuple[str, tuple[float, float]]]:
+    """[(condition, (dx, dy))] for beta_k = 2 pi k / directions, k = 0..directions-1."""
+    errors = []
+    for k in range(directions):
+        beta = 2.0 * math.pi * k / directions
+        errors.append((f"B{k}", (rho * math.cos(beta), rho * math.sin(beta))))
+    return errors
+
+
+def run_trial(spec: TrialSpec) -> dict:
+    """Run the grasp of `spec` in this process; the row of numbers for the summary."""
+    from graspframe.runner import RunRequest, run_grasp
+
+    started = time.perf_counter()
+    request = RunRequest(
+        hand=spec.hand,
+        grasp=HumanGrasp.parse(spec.grasp),
+        arm=spec.arm,
+        object_error=spec.object_error,
+        seed=spec.seed,
+        out_root=spec.runs_dir,
+    )
+    row = {"trial_id": spec.trial_id, **asdict(spec)}
+    try:
+        result = run_grasp(request)
+    except Exception as exc:
+        row.update(status="failed", error=f"{type(exc).__name__}: {exc}")
+        row["wall_time"] = time.perf_counter() - started
+        return row
+    outcome, score = result["outcome"], result.get("score", {})
+    comparison = score.get("comparison") or {}
+    row.update(
+        status="ok",
+        result_path=result["result_path"],
+        success=outcome["success"],
+        failure_reason=outcome["failure_reason"],
+        touching_fingers=outcome["touching_fingers"],
+        corrections=outcome["corrections"],
+        palm_contact=outcome["palm_contact"],
+        position_err_mm=comparison.get("position_err_mm"),
+        orientation_err_deg=comparison.get("orientation_err_deg"),
+        robot_vf=comparison.get("robot_count"),
+        human_vf=comparison.get("human_count"),
+        score_error=score.get("error"),
+        wall_time=time.perf_counter() - started,
+    )
+    return row
+
+
+def _child(spec: TrialSpec, connection) -> None:
+    connection.send(run_trial(spec))
+    connection.close()
+
+
+def run_trial_isolated(spec: TrialSpec, time_limit: float = TRIAL_TIME_LIMIT) -> dict:
+    """`run_trial` in a fresh process; a crash or a time-out gives a failed row."""
+    context = multiprocessing.get_context("spawn")
+    receiver, sender = context.Pipe(duplex=False)
+    process = context.Process(target=_child, args=(spec, sender), daemon=False)
+    started = time.perf_counter()
+    process.start()
+    sender.close()
+    row = None
+    if receiver.poll(time_limit):
+        try:
+            row = receiver.recv()
+        except EOFError:  # the child died while sending
+            row = None
+    if process.is_alive():
+        process.kill()
+    process.join()
+    if row is not None:
+        return row
+    elapsed = time.perf_counter() - started
+    if elapsed >= time_limit:
+        error = f"timed out after {time_limit:.0f} s"
+    else:
+        error = f"the trial process died (exit code {process.exitcode})"
+    return {
+        "trial_id": spec.trial_id,
+        **asdict(spec),
+        "status": "failed",
+        "error": error,
+        "wall_time": elapsed,
+    }

@@ -1,0 +1,87 @@
+"""The database shipped in the package loads, says how it was built, and classifies the
+bundled demo image correctly."""
+
+from __future__ import annotations
+
+import json
+from importlib.resources import files
+
+import numpy as np
+import pytest
+
+from graspframe.grasps import HumanGrasp
+from graspframe.registry import default_registry
+from graspframe.vision.classifier import HogKnnClassifier
+from graspframe.vision.commands import classify_command, read_image
+from graspframe.vision.database import FORMAT, load_database, read_metadata, shipped_database_path
+from graspframe.vision.rotations import angle_deg
+
+MAX_SHIPPED_MB = 5.0
+DEMO_MAX_ERROR_DEG = 20.0  # measured 2.5 deg
+
+
+def test_shipped_database_is_package_data_and_compact():
+    path = shipped_database_path()
+    assert path.is_file() and path.with_suffix(".json").is_file()
+    assert path.parent == __import__("pathlib").Path(str(files("graspframe_hog_knn") / "data"))
+    assert path.stat().st_size < MAX_SHIPPED_MB * 1e6
+
+
+def test_shipped_database_loads_with_readable_metadata():
+    meta = read_metadata()
+    assert meta["format"] == FORMAT
+    assert meta["graspframe_version"]
+    build = meta["build"]
+    for key in ("views_per_grasp", "size_px", "seed", "pca_dims", "hog"):
+        assert key in build
+    db = load_database()
+    assert len(db) == meta["views_stored"] > 1000
+    assert set(np.unique(db.labels)) == set(range(len(HumanGrasp)))
+    norms = np.linalg.norm(db.quat_xyzw, axis=1)
+    np.testing.assert_allclose(norms, 1.0, atol=1e-3)
+
+
+def test_registered_classifier_builds_fast_and_lazily():
+    cls = default_registry().get_classifier("hog_knn")
+    assert cls is HogKnnClassifier
+    classifier = cls()
+    assert classifier._database is None  # nothing loaded until the first image
+
+
+@pytest.fixture(scope="module")
+def demo():
+    root = files("graspframe.demo")
+    scene = json.loads((root / "scene.json").read_text())
+    return read_image(root / "demo.png"), scene
+
+
+def test_demo_scene_format(demo):
+    image, scene = demo
+    assert scene["format"] == "graspframe.scene/1"
+    assert scene["object"] == "large_cylinder"
+    for key in ("T_world_camera", "T_camera_object"):
+        assert np.asarray(scene[key]).shape == (4, 4)
+    assert np.asarray(scene["truth"]["T_camera_hand"]).shape == (4, 4)
+    assert image.shape[2] == 3
+
+
+def test_demo_image_is_classified_correctly(demo):
+    image, scene = demo
+    estimate = HogKnnClassifier().classify(image)
+    truth = np.asarray(scene["truth"]["T_camera_hand"])
+    error = angle_deg(estimate.R_cam_hand, truth[:3, :3])
+    print(f"demo: {estimate.grasp.value} ({estimate.confidence:.2f}), error {error:.1f} deg")
+    assert estimate.grasp.value == scene["truth"]["grasp"]
+    assert error < DEMO_MAX_ERROR_DEG
+    assert np.linalg.norm(estimate.p_cam_hand - truth[:3, 3]) < 0.05  # [m]
+
+
+def test_classify_command_prints_json(capsys):
+    path = files("graspframe.demo") / "demo.png"
+    assert classify_command(path, k=8, as_json=True) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["grasp"] == "large_diameter"
+    assert len(result["neighbours"]) == 8
+    assert "roll-pitch-yaw" in result["euler_convention"]
+    assert classify_command(path, k=5, as_json=False) == 0
+    assert "large_diameter" in capsys.readouterr().out
