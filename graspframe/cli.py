@@ -18,7 +18,7 @@ from rich.console import Console
 from rich.table import Table
 
 from graspframe import __version__
-from graspframe.errors import GraspframeError, InputError, NotAvailableError
+from graspframe.errors import GraspframeError, InputError
 
 app = typer.Typer(
     name="graspframe",
@@ -58,10 +58,6 @@ def _main(
         level=logging.INFO if verbose else logging.WARNING,
         format="%(levelname)s %(name)s: %(message)s",
     )
-
-
-def _not_yet(what: str) -> NotAvailableError:
-    return NotAvailableError(f"{what} is not available in graspframe {__version__} yet")
 
 
 @app.command()
@@ -131,6 +127,13 @@ def run(
     grasp: Annotated[
         str | None, typer.Option(help="The human grasp (skips vision), e.g. large_diameter.")
     ] = None,
+    image: Annotated[
+        Path | None, typer.Option(help="Image of a human grasp (default: the bundled demo).")
+    ] = None,
+    scene: Annotated[
+        Path | None, typer.Option(help="Scene file of the image: camera and object poses.")
+    ] = None,
+    classifier: Annotated[str, typer.Option(help="Classifier plugin name.")] = "hog_knn",
     arm: Annotated[str, typer.Option(help="Arm plugin name.")] = "kuka",
     object_name: Annotated[
         str | None, typer.Option("--object", help="Object name (default: the grasp's own).")
@@ -145,19 +148,24 @@ def run(
         Path | None,
         typer.Option(help="JSON file of measured human contacts replacing the simulated ones."),
     ] = None,
+    record: Annotated[
+        bool, typer.Option("--record/--no-record", help="Record the run for rerun.")
+    ] = True,
 ) -> None:
-    """Human grasp -> robot grasp on the arm in simulation, scored against the human."""
+    """Image of a human grasp -> robot grasp on the arm in simulation, scored.
+
+    With no --grasp and no --image, the bundled demo image is classified."""
     from graspframe.grasps import HumanGrasp
     from graspframe.runner import RunRequest, run_grasp
 
-    if grasp is None:
-        raise InputError(
-            "no --grasp given and no image classifier is installed; pass --grasp with one of: "
-            + ", ".join(g.value for g in HumanGrasp)
-        )
+    if grasp is not None and (image is not None or scene is not None):
+        raise InputError("pass either --grasp (no vision) or --image with --scene, not both")
     request = RunRequest(
         hand=hand,
-        grasp=HumanGrasp.parse(grasp),
+        grasp=HumanGrasp.parse(grasp) if grasp else None,
+        image=str(image) if image else None,
+        scene=str(scene) if scene else None,
+        classifier=classifier,
         arm=arm,
         object=object_name,
         object_error=_parse_error_mm(object_error_mm),
@@ -165,6 +173,7 @@ def run(
         backend=backend,
         out_root=str(out),
         human_contacts=str(human_contacts) if human_contacts else None,
+        record=record,
     )
     result = run_grasp(request, progress=lambda stage: err_console.print(f"[dim]· {stage}[/dim]"))
     _print_run_summary(result)
@@ -172,6 +181,12 @@ def run(
 
 def _print_run_summary(result: dict) -> None:
     plan, outcome, score = result["plan"], result["outcome"], result.get("score", {})
+    classification = result.get("classification")
+    if classification:
+        console.print(
+            f"image: human {classification['grasp']} "
+            f"(confidence {classification['confidence']:.2f}, {classification['classifier']})"
+        )
     console.print(
         f"[bold]{plan['hand']}[/bold]: human {plan['grasp']} -> preshape {plan['preshape']}, "
         f"{plan['approach']} approach, {'volar' if plan['volar'] else 'non-volar'}"
@@ -199,12 +214,22 @@ def _print_run_summary(result: dict) -> None:
     elif "error" in score:
         console.print(f"virtual fingers: not scored ({score['error']})")
     console.print(f"result: {result['result_path']}")
+    if result.get("recording"):
+        console.print(
+            f"recording: {result['recording']}  (graspframe review {result['recording']})"
+        )
 
 
 @app.command()
-def classify() -> None:
+def classify(
+    image: Annotated[Path, typer.Argument(help="Image of one hand grasping an object.")],
+    k: Annotated[int, typer.Option(help="Nearest database views that vote.")] = 8,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+) -> None:
     """Classify the human grasp and hand orientation in one image."""
-    raise _not_yet("graspframe classify")
+    from graspframe.vision.commands import classify_command
+
+    raise typer.Exit(classify_command(image, k, as_json))
 
 
 def _names_option(text: str, kind: str, known: list[str]) -> tuple[str, ...]:
@@ -290,15 +315,46 @@ def evaluate(
 
 
 @app.command()
-def review() -> None:
+def review(
+    run: Annotated[Path, typer.Argument(help="A run folder or its recording.rrd.")],
+) -> None:
     """Open a recorded run in the rerun viewer."""
-    raise _not_yet("graspframe review")
+    import shutil
+    import subprocess
+
+    path = run / "recording.rrd" if run.is_dir() else run
+    if not path.is_file():
+        raise InputError(f"no recording at {path}; runs record to <run folder>/recording.rrd")
+    viewer = shutil.which("rerun")
+    if viewer is None:
+        raise InputError("the rerun viewer is not on PATH (it ships with rerun-sdk)")
+    raise typer.Exit(subprocess.call([viewer, str(path)]))
+
+
+@app.command("check-hand")
+def check_hand(
+    name: Annotated[str, typer.Argument(help="A registered hand plugin name.")],
+) -> None:
+    """Check a hand plugin against the contract and say, in plain words, what is wrong."""
+    from graspframe.checks import check_hand_command
+
+    raise typer.Exit(check_hand_command(name))
 
 
 @db_app.command("build")
-def db_build() -> None:
-    """(Re)build the synthetic view database."""
-    raise _not_yet("graspframe db build")
+def db_build(
+    views_per_grasp: Annotated[int, typer.Option(help="Rendered views per grasp.")] = 2000,
+    size: Annotated[int, typer.Option(help="Rendered image side [px].")] = 128,
+    workers: Annotated[int, typer.Option(help="Rendering processes.")] = 2,
+    seed: Annotated[int, typer.Option(help="Seed; the same seed gives the same database.")] = 0,
+    out: Annotated[
+        Path | None, typer.Option(help="Output .npz (default: the shipped database).")
+    ] = None,
+) -> None:
+    """(Re)build the synthetic view database of the hog_knn classifier."""
+    from graspframe.vision.commands import db_build_command
+
+    raise typer.Exit(db_build_command(views_per_grasp, size, workers, seed, out))
 
 
 def main(argv: list[str] | None = None) -> int:

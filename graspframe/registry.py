@@ -38,6 +38,8 @@ log = logging.getLogger(__name__)
 ENTRY_POINT_GROUP = "graspframe"
 STRICT_ENV = "GRASPFRAME_STRICT_PLUGINS"
 DISABLE_ENV = "GRASPFRAME_DISABLE_PLUGINS"
+# Comma-separated names a plugin may take over from another package (e.g. "hand:barrett").
+ALLOW_OVERRIDE_ENV = "GRASPFRAME_ALLOW_OVERRIDE"
 
 
 @dataclass(frozen=True)
@@ -236,12 +238,21 @@ class Registry:
 
     def _check_unique(self, entry: Entry) -> None:
         existing = self._entries[entry.kind].get(entry.name)
-        if existing is not None:
-            raise PluginError(
-                f"{entry.kind} {entry.name!r} from plugin {entry.plugin!r} "
-                f"(package {entry.package}) is already provided by plugin "
-                f"{existing.plugin!r} (package {existing.package}); refusing to replace it"
-            )
+        if existing is None:
+            return
+        allowed = {n.strip() for n in os.environ.get(ALLOW_OVERRIDE_ENV, "").split(",")}
+        if f"{entry.kind}:{entry.name}" in allowed:
+            log.warning(
+                "%s %r from package %s replaces the one from package %s (%s)",
+                entry.kind, entry.name, entry.package, existing.package, ALLOW_OVERRIDE_ENV,
+            )  # fmt: skip
+            return
+        raise PluginError(
+            f"{entry.kind} {entry.name!r} from plugin {entry.plugin!r} "
+            f"(package {entry.package}) is already provided by plugin "
+            f"{existing.plugin!r} (package {existing.package}); refusing to replace it "
+            f"(allow it with {ALLOW_OVERRIDE_ENV}={entry.kind}:{entry.name})"
+        )
 
     def _fail(self, info: PluginInfo, exc: Exception, what: str) -> None:
         info.status = "failed"

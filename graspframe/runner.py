@@ -24,6 +24,7 @@ from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_con
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.registry import Registry, default_registry
 from graspframe.results import new_run_dir, versions, write_json
+from graspframe.scene import Scene, check_on_table, load_scene
 from graspframe.strategy.executor import ExecutorParams, GraspOutcome, execute_plan
 from graspframe.strategy.human_reference import (
     HumanReference,
@@ -40,16 +41,26 @@ SCENE_OBJECT_XY = (0.55, 0.20)  # [m]
 TABLE_HEIGHT = 0.0  # [m]
 HUMAN_HAND = "human"
 MAX_OBJECT_ERROR = 0.5  # [m] larger injected errors are surely a unit mistake
+# Per-cycle samples and bulky data go to the observers (the recording), not result.json.
+OBSERVER_ONLY_EVENTS = frozenset({"motion.cycle", "score.done", "classify.images"})
 
 
 @dataclass(frozen=True)
 class RunRequest:
-    """What to run. object_error: [m] (dx, dy) added to the object position the robot
-    believes (the object itself stays put). human_contacts: a measured-contacts file
-    replacing the simulated human reference."""
+    """What to run.
+
+    grasp: the human grasp stated (skips vision); None: classify `image` (default: the
+        bundled demo) with `classifier`, the camera and object poses from `scene`.
+    object_error: [m] (dx, dy) added to the object position the robot believes (the
+        object itself stays put). human_contacts: a measured-contacts file replacing the
+        simulated human reference. record: stream a rerun recording of the run.
+    """
 
     hand: str
-    grasp: HumanGrasp
+    grasp: HumanGrasp | None = None
+    image: str | None = None
+    scene: str | None = None
+    classifier: str = "hog_knn"
     arm: str = "kuka"
     object: str | None = None
     object_error: tuple[float, float] = (0.0, 0.0)
@@ -57,10 +68,15 @@ class RunRequest:
     backend: str = "sapien"
     out_root: str = "runs"
     human_contacts: str | None = None
+    record: bool = True
 
     def command(self) -> str:
         """The command line that repeats this run."""
-        parts = ["graspframe", "run", "--hand", self.hand, "--grasp", self.grasp.value]
+        parts = ["graspframe", "run", "--hand", self.hand]
+        if self.grasp is not None:
+            parts += ["--grasp", self.grasp.value]
+        if self.image:
+            parts += ["--image", self.image, "--scene", str(self.scene)]
         parts += ["--arm", self.arm, "--seed", str(self.seed)]
         if self.object:
             parts += ["--object", self.object]
@@ -69,6 +85,8 @@ class RunRequest:
             parts += ["--object-error-mm", f"{dx:g},{dy:g}"]
         if self.human_contacts:
             parts += ["--human-contacts", self.human_contacts]
+        if not self.record:
+            parts += ["--no-record"]
         return " ".join(parts)
 
 
@@ -86,26 +104,48 @@ class _Recorder:
 
     def emit(self, kind: str, **data) -> None:
         event = RunEvent(kind, self.clock(), data)
-        if not kind.startswith("motion."):  # per-cycle samples go to observers only
+        if kind not in OBSERVER_ONLY_EVENTS:
             self.events.append({"kind": kind, "sim_time": event.sim_time, **data})
         self.registry.notify_run_event(self.run, event)
 
 
+def demo_paths() -> tuple[Path, Path]:
+    """The bundled demo image and its scene file."""
+    from importlib.resources import files
+
+    folder = Path(str(files("graspframe.demo")))
+    return folder / "demo.png", folder / "scene.json"
+
+
 def resolve(request: RunRequest, registry: Registry):
-    """Look every name up first: unknown names fail before anything runs."""
+    """Look every name up and read every input first: bad input fails before anything
+    runs. Returns (hand, arm, backend class, object, scene or None, image or None)."""
     hand = registry.get_hand(request.hand)
     arm = registry.get_arm(request.arm)
     backend_cls = registry.get_backend(request.backend)
-    obj = (
-        registry.get_object(request.object)
-        if request.object
-        else registry.default_object_for(request.grasp)
-    )
+    scene = image = None
+    if request.grasp is None:
+        from graspframe.vision.commands import read_image
+
+        if request.image and not request.scene:
+            raise InputError("--image needs --scene (the camera and object poses of the image)")
+        demo_image, demo_scene = demo_paths()
+        registry.get_classifier(request.classifier)
+        image = read_image(Path(request.image or demo_image))
+        scene = load_scene(request.scene or demo_scene)
+    if request.object:
+        obj = registry.get_object(request.object)
+    elif scene is not None:
+        obj = registry.get_object(scene.object_name)
+    else:
+        obj = registry.default_object_for(request.grasp)
+    if scene is not None:
+        check_on_table(scene, obj.half_height, TABLE_HEIGHT)
     if any(not np.isfinite(v) or abs(v) > MAX_OBJECT_ERROR for v in request.object_error):
         raise InputError(
             f"object error {request.object_error} m is not finite or above {MAX_OBJECT_ERROR} m"
         )
-    return hand, arm, backend_cls, obj
+    return hand, arm, backend_cls, obj, scene, image
 
 
 def run_grasp(
@@ -118,11 +158,12 @@ def run_grasp(
     """
     registry = registry or default_registry()
     progress = progress or (lambda message: None)
-    hand, arm, backend_cls, obj = resolve(request, registry)
+    hand, arm, backend_cls, obj, scene, image = resolve(request, registry)
     human = registry.get_hand(HUMAN_HAND)
     reference_file = load_reference_file(request.human_contacts) if request.human_contacts else None
 
-    run_dir = new_run_dir(request.out_root, f"{hand.name}-{request.grasp.value}")
+    label = request.grasp.value if request.grasp else Path(request.image or "demo").stem
+    run_dir = new_run_dir(request.out_root, f"{hand.name}-{label}")
     run = RunInfo(run_dir.name, str(run_dir), asdict(request))
     recorder = _Recorder(registry, run)
     result: dict = {
@@ -139,9 +180,8 @@ def run_grasp(
     registry.notify_run_started(run)
     started = time.perf_counter()
     try:
-        _execute(
-            request, hand, arm, backend_cls, obj, human, reference_file, recorder, result, progress
-        )
+        inputs = _Inputs(hand, arm, backend_cls, obj, human, reference_file, scene, image)
+        _execute(request, inputs, registry, recorder, result, progress)
         result["status"] = "ok"
     except BaseException as exc:
         result["status"] = "failed"
@@ -152,28 +192,87 @@ def run_grasp(
         result["wall_time"] = time.perf_counter() - started
         result["events"] = recorder.events
         result["result_path"] = str(result_path)
-        write_json(result_path, result)
+        # Observers may add to the result (the recorder adds where its recording is).
         registry.notify_run_finished(run, result)
+        write_json(result_path, result)
     return result
 
 
-def _execute(
-    request, hand, arm, backend_cls, obj, human, reference_file, recorder, result, progress
-):
-    grasp = request.grasp
-    # The human grasp: the reference placement of the human palm on this object.
+@dataclass(frozen=True)
+class _Inputs:
+    hand: object
+    arm: object
+    backend_cls: type
+    obj: object
+    human: object
+    reference_file: HumanReference | None
+    scene: Scene | None
+    image: np.ndarray | None
+
+
+def _human_grasp(request, inputs, registry, recorder, result, progress):
+    """(grasp, T_object_hand, p_hand_grasp, T_world_object): the human grasp relative to
+    the object and where the object is, from the stated grasp or from the image."""
+    obj, human = inputs.obj, inputs.human
+    if inputs.scene is None:
+        grasp = request.grasp
+        placement = reference_placement(obj, human.preshape_for(grasp))
+        T_world_object = make_T(p=[*SCENE_OBJECT_XY, TABLE_HEIGHT + obj.half_height])
+        return grasp, placement.T_object_palm, placement.p_palm_grasp, T_world_object
+
+    progress(f"classifying the image with {request.classifier}")
+    classifier = registry.get_classifier(request.classifier)()
+    estimate = classifier.classify(inputs.image)
+    grasp = estimate.grasp
+    scene = inputs.scene
+    R_object_hand = scene.T_camera_object[:3, :3].T @ estimate.R_cam_hand
     placement = reference_placement(obj, human.preshape_for(grasp))
-    T_world_object = make_T(p=[*SCENE_OBJECT_XY, TABLE_HEIGHT + obj.half_height])
+    if estimate.p_cam_hand is not None:
+        p_object_hand = scene.T_camera_object[:3, :3].T @ (
+            np.asarray(estimate.p_cam_hand) - scene.T_camera_object[:3, 3]
+        )
+    else:  # the object sits where the estimated posture holds it
+        p_object_hand = -R_object_hand @ placement.p_palm_grasp
+    T_object_hand = make_T(R_object_hand, p_object_hand)
+    classification = {
+        "classifier": request.classifier,
+        "grasp": grasp.value,
+        "confidence": estimate.confidence,
+        "R_cam_hand": estimate.R_cam_hand,
+        "p_cam_hand": estimate.p_cam_hand,
+        "neighbours": [
+            {"view_id": n.view_id, "grasp": n.grasp.value, "distance": n.distance}
+            for n in estimate.neighbours
+        ],
+        "T_object_hand": T_object_hand,
+    }
+    result["classification"] = classification
+    recorder.emit("classify.done", **classification)
+    recorder.emit("classify.images", image_bgr=inputs.image, mask=_hand_mask(inputs.image))
+    return grasp, T_object_hand, placement.p_palm_grasp, scene.T_world_object
+
+
+def _hand_mask(image):
+    from graspframe.vision.segmentation import hand_mask
+
+    return hand_mask(image)
+
+
+def _execute(request, inputs, registry, recorder, result, progress):
+    hand, arm, obj, human = inputs.hand, inputs.arm, inputs.obj, inputs.human
+    grasp, T_object_hand, p_hand_grasp, T_world_object = _human_grasp(
+        request, inputs, registry, recorder, result, progress
+    )
     T_world_object_est = T_world_object.copy()
     T_world_object_est[:2, 3] += request.object_error
 
-    progress("planning")
+    progress(f"planning the {hand.name} grasp for a human {grasp.value}")
     plan = plan_grasp(
         grasp,
-        placement.T_object_palm,
+        T_object_hand,
         T_world_object_est,
         hand,
-        p_hand_grasp=placement.p_palm_grasp,
+        p_hand_grasp=p_hand_grasp,
         table_height=TABLE_HEIGHT,
         object_top_height=T_world_object_est[2, 3] + obj.half_height,
         params=PlannerParams(),
@@ -190,15 +289,32 @@ def _execute(
         table_height=TABLE_HEIGHT,
         seed=request.seed,
     )
-    with backend_cls().create_world(config) as world:
+    with inputs.backend_cls().create_world(config) as world:
         recorder.clock = lambda: world.time
+        recorder.emit(
+            "world.built",
+            hand=hand.name,
+            arm=arm.name,
+            object=obj.name,
+            model_path=str(world.robot.urdf_path),
+            T_world_arm_base=config.T_world_arm_base,
+            T_world_object=T_world_object,
+            T_world_object_est=T_world_object_est,
+            table_height=TABLE_HEIGHT,
+        )
 
         def on_cycle(motion: ArmMotion) -> None:
+            T_world_palm = world.hand.T_world_palm()
             recorder.emit(
                 "motion.cycle",
                 q_arm=world.arm.joint_positions(),
                 q_hand=world.hand.joint_positions(),
-                T_world_palm=world.hand.T_world_palm(),
+                T_world_palm=T_world_palm,
+                T_world_object=world.object.T_world_object(),
+                palm_touched=world.hand.palm_sensor().on_palm,
+                distance_to_goal=float(
+                    np.linalg.norm(T_world_palm[:3, 3] - plan.T_world_palm_goal[:3, 3])
+                ),
             )
 
         motion = ArmMotion(world, world.robot, config.T_world_arm_base, on_cycle=on_cycle)
@@ -207,8 +323,16 @@ def _execute(
     result["outcome"] = _outcome_dict(outcome)
 
     progress("scoring against the human reference")
-    reference = reference_file or human_reference(grasp, obj, human, backend_cls())
+    reference = inputs.reference_file or human_reference(grasp, obj, human, inputs.backend_cls())
     result["score"] = _score(outcome, reference, hand, human)
+    recorder.emit(
+        "score.done",
+        score=result["score"],
+        human_contacts=list(reference.contacts),
+        robot_contacts_object=[
+            c.in_frame(outcome.T_world_object_at_hold) for c in outcome.contacts
+        ],
+    )
 
 
 def _outcome_dict(outcome: GraspOutcome) -> dict:

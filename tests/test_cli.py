@@ -24,19 +24,34 @@ def test_no_arguments_shows_help(capsys):
     assert "Usage" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("command", [["classify"], ["review"], ["db", "build"]])
-def test_commands_not_built_yet_say_so_in_one_line(command, capsys):
+@pytest.mark.parametrize(
+    ("command", "message"),
+    [
+        (["classify", "/nonexistent.png"], "not found"),
+        (["review", "/nonexistent"], "no recording at /nonexistent"),
+        (["check-hand", "allegro"], "unknown hand 'allegro'; known hands: barrett"),
+        (["evaluate", "--hands", "allegro"], "unknown hand 'allegro'"),
+        (["evaluate", "--executor", "slurm"], "unknown executor 'slurm'; executors: local, dask"),
+    ],
+)
+def test_bad_arguments_give_one_line_and_exit_1(command, message, capsys):
     assert main(command) == 1
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1
-    assert "not available" in err
+    assert len(err.splitlines()) <= 2  # one message, which rich may wrap
+    assert message in " ".join(err.split())
 
 
-def test_run_without_a_grasp_says_what_to_pass(capsys):
-    assert main(["run", "--hand", "barrett"]) == 1
-    assert "pass --grasp with one of: large_diameter" in capsys.readouterr().err
+def test_check_hand_passes_on_a_builtin_hand(capsys):
+    assert main(["check-hand", "barrett"]) == 0
+    assert "hand barrett: all checks passed" in capsys.readouterr().out
+
+
+def test_run_refuses_a_grasp_and_an_image_together(capsys, tmp_path):
+    args = ["run", "--grasp", "pinch", "--image", "x.png", "--out", str(tmp_path)]
+    assert main(args) == 1
+    assert "either --grasp (no vision) or --image" in capsys.readouterr().err
 
 
 def test_verbose_shows_the_traceback(capsys):
-    assert main(["--verbose", "classify"]) == 1
+    assert main(["--verbose", "classify", "/nonexistent.png"]) == 1
     assert "Traceback" in capsys.readouterr().err

@@ -170,3 +170,15 @@ def test_disabled_plugins_are_not_loaded(monkeypatch):
     statuses = {p.name: p.status for p in registry.plugins}
     assert statuses["barrett"] == "disabled"
     assert statuses["kuka"] == "disabled"
+
+
+def test_replacing_a_name_can_be_allowed_explicitly(fake_hand, monkeypatch):
+    from dataclasses import replace
+
+    monkeypatch.setenv("GRASPFRAME_ALLOW_OVERRIDE", "hand:fake_hand")
+    registry = Registry(strict=False)
+    registry.add_plugin("builtin", hand_plugin(fake_hand), package="graspframe")
+    mine = replace(fake_hand, summary="my own")
+    info = registry.add_plugin("mine", hand_plugin(mine), package="my-hands")
+    assert info.status == "loaded"
+    assert registry.get_hand("fake_hand").summary == "my own"

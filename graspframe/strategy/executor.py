@@ -130,7 +130,12 @@ def _approach_volar(
     alpha, corrections = p.alpha_start, 0
     while True:
         result = motion.move_palm_linear(a, d_pre + p.approach_overshoot, p.approach_speed)
-        emit("execute.approach", travel=result.travel, stopped=result.stopped_by_contact)
+        emit(
+            "execute.approach",
+            travel=result.travel,
+            stopped=result.stopped_by_contact,
+            cycles=result.cycles,
+        )
         if not result.stopped_by_contact:
             emit("execute.no_contact", goal=T_goal[:3, 3])
             return corrections, False, goals
@@ -223,7 +228,7 @@ def _execute(plan, world, motion, hand, p: ExecutorParams, emit: Emit) -> GraspO
         result = motion.move_palm_linear(
             plan.a_world, plan.pre_approach_distance, p.approach_speed, stop_on_contact=False
         )
-        emit("execute.approach", travel=result.travel, stopped=False)
+        emit("execute.approach", travel=result.travel, stopped=False, cycles=result.cycles)
         corrections, goals = 0, [plan.T_world_palm_goal[:3, 3].tolist()]
         palm_contact = world.hand.palm_sensor().on_palm
 
@@ -235,6 +240,7 @@ def _execute(plan, world, motion, hand, p: ExecutorParams, emit: Emit) -> GraspO
         "execute.hold",
         fingers=sorted({c.real_finger for c in contacts}),
         n_contacts=len(contacts),
+        contacts=contacts,
     )
 
     up = np.array([0.0, 0.0, 1.0])

@@ -163,11 +163,20 @@ def hand_problems(hand: HandDescription) -> list[str]:
     links += [
         (f"link of real finger {f!r}", link) for f, ls in hand.real_fingers.items() for link in ls
     ]
-    model_problems = _model_problems(hand.model_path, hand.joints, links)
-    problems += model_problems
-    if not model_problems:
+    problems += _model_problems(hand.model_path, hand.joints, links)
+    # The palm direction needs only the model, its palm frame and palm links: check it
+    # also when the joints are wrong, so that one run names every defect.
+    if _model_has_links(hand.model_path, {hand.palm_frame, *hand.real_fingers.get(PALM, ())}):
         problems += palm_direction_problems(hand)
     return problems
+
+
+def _model_has_links(model_path, links: set[str]) -> bool:
+    """True when the model loads and has all these links."""
+    try:
+        return links <= summarize_urdf(str(model_path)).links
+    except GraspframeError:
+        return False
 
 
 def palm_direction_problems(hand: HandDescription) -> list[str]:

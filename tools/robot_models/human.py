@@ -238,8 +238,11 @@ def build(hand_length: float = HAND_LENGTH_M) -> UrdfBuilder:
     # ---- digits: shapes in the link's own frame (z along the phalanx from its joint).
     def phalanx(seg_length, radius, last, start=0.0):
         shapes = [
-            Cylinder(radius, seg_length - start - (radius if last else 0.0),
-                     _fmt_round((0, 0, (start + seg_length - (radius if last else 0.0)) / 2)))
+            Cylinder(
+                radius,
+                seg_length - start - (radius if last else 0.0),
+                _fmt_round((0, 0, (start + seg_length - (radius if last else 0.0)) / 2)),
+            )
         ]
         if start == 0.0:  # rounded proximal end: the knuckle / joint
             shapes.append(Sphere(radius))
@@ -340,13 +343,23 @@ def build(hand_length: float = HAND_LENGTH_M) -> UrdfBuilder:
         else:  # a frame marker
             b.link(PREFIX + name)
 
-    def add_joint(name, kind, parent, child, axis=(0, 0, 1), limits_deg=(0, 0), effort=0.0,
-                  mimic=None):
+    def add_joint(
+        name, kind, parent, child, axis=(0, 0, 1), limits_deg=(0, 0), effort=0.0, mimic=None
+    ):
         xyz, rpy = frames.origin(parent, child)
         b.joint(
-            PREFIX + name, kind, PREFIX + parent, PREFIX + child, xyz, rpy, axis,
-            math.radians(limits_deg[0]), math.radians(limits_deg[1]), effort,
-            VELOCITY_LIMIT if kind != "fixed" else 0.0, mimic,
+            PREFIX + name,
+            kind,
+            PREFIX + parent,
+            PREFIX + child,
+            xyz,
+            rpy,
+            axis,
+            math.radians(limits_deg[0]),
+            math.radians(limits_deg[1]),
+            effort,
+            VELOCITY_LIMIT if kind != "fixed" else 0.0,
+            mimic,
         )
 
     flex_axis = (0.0, -1.0, 0.0)  # local -y: a positive angle bends towards the palm
@@ -362,33 +375,89 @@ def build(hand_length: float = HAND_LENGTH_M) -> UrdfBuilder:
         add_link(f"{f}_metacarpal")
         add_joint(f"{f}_cmc", "fixed", "wrist", f"{f}_metacarpal")
         add_link(f"{f}_knuckle")
-        add_joint(f"{f}_abd", "revolute", f"{f}_metacarpal", f"{f}_knuckle", abd_axis,
-                  (-lim, lim), EFFORT_LIMITS["abd"])
+        add_joint(
+            f"{f}_abd",
+            "revolute",
+            f"{f}_metacarpal",
+            f"{f}_knuckle",
+            abd_axis,
+            (-lim, lim),
+            EFFORT_LIMITS["abd"],
+        )
         add_link(f"{f}_proximal")
-        add_joint(f"{f}_mcp", "revolute", f"{f}_knuckle", f"{f}_proximal", flex_axis,
-                  FLEX_LIMITS_DEG, EFFORT_LIMITS["mcp"])
+        add_joint(
+            f"{f}_mcp",
+            "revolute",
+            f"{f}_knuckle",
+            f"{f}_proximal",
+            flex_axis,
+            FLEX_LIMITS_DEG,
+            EFFORT_LIMITS["mcp"],
+        )
         add_link(f"{f}_intermediate")
-        add_joint(f"{f}_pip", "revolute", f"{f}_proximal", f"{f}_intermediate", flex_axis,
-                  FLEX_LIMITS_DEG, EFFORT_LIMITS["pip"])
+        add_joint(
+            f"{f}_pip",
+            "revolute",
+            f"{f}_proximal",
+            f"{f}_intermediate",
+            flex_axis,
+            FLEX_LIMITS_DEG,
+            EFFORT_LIMITS["pip"],
+        )
         add_link(f"{f}_distal")
-        add_joint(f"{f}_dip", "revolute", f"{f}_intermediate", f"{f}_distal", flex_axis,
-                  FLEX_LIMITS_DEG, EFFORT_LIMITS["dip"],
-                  mimic=(f"{PREFIX}{f}_pip", DIP_PIP_RATIO, 0.0))
+        add_joint(
+            f"{f}_dip",
+            "revolute",
+            f"{f}_intermediate",
+            f"{f}_distal",
+            flex_axis,
+            FLEX_LIMITS_DEG,
+            EFFORT_LIMITS["dip"],
+            mimic=(f"{PREFIX}{f}_pip", DIP_PIP_RATIO, 0.0),
+        )
         add_link(f"{f}_tip")
         add_joint(f"{f}_tip_joint", "fixed", f"{f}_distal", f"{f}_tip")
     lim = THUMB_LIMITS_DEG
     add_link("thumb_cmc")
-    add_joint("thumb_cmc_abd", "revolute", "wrist", "thumb_cmc", _fmt_round(thumb_abd_axis),
-              lim["cmc_abd"], EFFORT_LIMITS["thumb_cmc_abd"])
+    add_joint(
+        "thumb_cmc_abd",
+        "revolute",
+        "wrist",
+        "thumb_cmc",
+        _fmt_round(thumb_abd_axis),
+        lim["cmc_abd"],
+        EFFORT_LIMITS["thumb_cmc_abd"],
+    )
     add_link("thumb_metacarpal")
-    add_joint("thumb_cmc_flex", "revolute", "thumb_cmc", "thumb_metacarpal", flex_axis,
-              lim["cmc_flex"], EFFORT_LIMITS["thumb_cmc_flex"])
+    add_joint(
+        "thumb_cmc_flex",
+        "revolute",
+        "thumb_cmc",
+        "thumb_metacarpal",
+        flex_axis,
+        lim["cmc_flex"],
+        EFFORT_LIMITS["thumb_cmc_flex"],
+    )
     add_link("thumb_proximal")
-    add_joint("thumb_mcp", "revolute", "thumb_metacarpal", "thumb_proximal", flex_axis,
-              lim["mcp"], EFFORT_LIMITS["thumb_mcp"])
+    add_joint(
+        "thumb_mcp",
+        "revolute",
+        "thumb_metacarpal",
+        "thumb_proximal",
+        flex_axis,
+        lim["mcp"],
+        EFFORT_LIMITS["thumb_mcp"],
+    )
     add_link("thumb_distal")
-    add_joint("thumb_ip", "revolute", "thumb_proximal", "thumb_distal", flex_axis,
-              lim["ip"], EFFORT_LIMITS["thumb_ip"])
+    add_joint(
+        "thumb_ip",
+        "revolute",
+        "thumb_proximal",
+        "thumb_distal",
+        flex_axis,
+        lim["ip"],
+        EFFORT_LIMITS["thumb_ip"],
+    )
     add_link("thumb_tip")
     add_joint("thumb_tip_joint", "fixed", "thumb_distal", "thumb_tip")
     return b
@@ -396,8 +465,12 @@ def build(hand_length: float = HAND_LENGTH_M) -> UrdfBuilder:
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--hand-length", type=float, default=HAND_LENGTH_M,
-                        help="wrist crease to middle fingertip [m] (default 0.19)")
+    parser.add_argument(
+        "--hand-length",
+        type=float,
+        default=HAND_LENGTH_M,
+        help="wrist crease to middle fingertip [m] (default 0.19)",
+    )
     parser.add_argument("--out", type=Path, default=OUT_PATH, help="URDF file to write")
     args = parser.parse_args(argv)
     path = build(args.hand_length).write(args.out)

@@ -1,0 +1,1 @@
+"""graspframe plugin: a two-finger parallel gripper (URDF model and hand description)."""

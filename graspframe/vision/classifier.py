@@ -1,0 +1,173 @@
+"""The HOG + weighted-kNN grasp classifier (METHOD.md section 2).
+
+classify(image): check the image, segment the hand by skin colour, crop and normalise
+it, HOG, PCA, k nearest database views, distance-weighted class vote (weights
+1 / distance), orientation = weighted rotation average of the neighbours of the winning
+class, palm position from the crop's size and position under an assumed camera.
+
+Camera frame: OpenCV axes, x right, y down, z forward. R_cam_hand is the rotation of
+the human palm frame (+x to the fingertips, +z out of the palm) in that frame.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from graspframe.errors import InputError
+from graspframe.hal.classifier import Classifier, HumanGraspEstimate, Neighbour
+from graspframe.transforms import R_from_quat_xyzw
+from graspframe.vision.database import ViewDatabase, load_database
+from graspframe.vision.features import hog_descriptor
+from graspframe.vision.index import NeighbourIndex
+from graspframe.vision.rotations import average_rotations
+from graspframe.vision.segmentation import segment_hand
+from graspframe.vision.views import GRASPS
+
+DEFAULT_K = 8
+MAX_SIDE = 4096  # [px] larger images are refused
+MIN_SIDE = 32  # [px] smaller images are refused
+DEFAULT_FOV_X_DEG = 60.0  # [deg] assumed horizontal field of view for p_cam_hand
+DISTANCE_FLOOR = 1e-6  # keeps the 1 / distance weight finite for an exact match
+
+
+@dataclass(frozen=True)
+class Timings:
+    """Per-stage query time [s]."""
+
+    segmentation: float
+    features: float
+    search: float
+
+
+def check_image(image_bgr) -> NDArray[np.uint8]:
+    """The image if it is usable (H x W x 3 uint8 colour, 32..4096 px a side), else an
+    InputError saying what is wrong."""
+    if not isinstance(image_bgr, np.ndarray):
+        raise InputError(
+            f"expected an image array (H x W x 3 uint8), got {type(image_bgr).__name__}"
+        )
+    if image_bgr.size == 0:
+        raise InputError(f"the image is empty (shape {image_bgr.shape})")
+    if image_bgr.ndim == 2 or (image_bgr.ndim == 3 and image_bgr.shape[2] == 1):
+        raise InputError("the image is grey-level; skin segmentation needs a colour (BGR) image")
+    if image_bgr.ndim != 3 or image_bgr.shape[2] != 3:
+        raise InputError(f"expected an H x W x 3 colour image, got shape {image_bgr.shape}")
+    if image_bgr.dtype != np.uint8:
+        raise InputError(f"expected 8-bit pixels (uint8), got {image_bgr.dtype}")
+    h, w = image_bgr.shape[:2]
+    if max(h, w) > MAX_SIDE:
+        raise InputError(f"the image is {w}x{h} px; the accepted maximum is {MAX_SIDE} px a side")
+    if min(h, w) < MIN_SIDE:
+        raise InputError(f"the image is {w}x{h} px; the accepted minimum is {MIN_SIDE} px a side")
+    b, g, r = image_bgr[..., 0], image_bgr[..., 1], image_bgr[..., 2]
+    if np.array_equal(b, g) and np.array_equal(g, r):
+        raise InputError("the image is grey-level; skin segmentation needs a colour image")
+    return image_bgr
+
+
+class HogKnnClassifier(Classifier):
+    """HOG descriptors of the skin-segmented hand, k nearest synthetic views.
+
+    database_path: a .npz view database (default: the one shipped with the package),
+    loaded on first use; k: neighbours; index_kind: "hnsw" or "flat" (exact);
+    fov_x_deg: assumed horizontal field of view of the camera [deg], used only for
+    p_cam_hand.
+    """
+
+    name: ClassVar[str] = "hog_knn"
+    summary: ClassVar[str] = "skin segmentation + HOG + weighted kNN over rendered human-hand views"
+
+    def __init__(
+        self,
+        database_path: Path | None = None,
+        k: int = DEFAULT_K,
+        index_kind: str = "hnsw",
+        fov_x_deg: float = DEFAULT_FOV_X_DEG,
+    ):
+        if k < 1:
+            raise InputError(f"k must be >= 1, got {k}")
+        self.database_path = database_path
+        self.k = k
+        self.index_kind = index_kind
+        self.fov_x_deg = fov_x_deg
+        self._database: ViewDatabase | None = None
+        self._index: NeighbourIndex | None = None
+
+    @classmethod
+    def from_database(cls, database: ViewDatabase, **options) -> HogKnnClassifier:
+        """A classifier over an in-memory database (tests, benchmarks)."""
+        classifier = cls(**options)
+        classifier._database = database
+        return classifier
+
+    @property
+    def database(self) -> ViewDatabase:
+        if self._database is None:
+            self._database = load_database(self.database_path)
+        return self._database
+
+    @property
+    def index(self) -> NeighbourIndex:
+        if self._index is None:
+            self._index = NeighbourIndex(self.database.descriptors, self.index_kind)
+        return self._index
+
+    def classify(self, image_bgr: NDArray[np.uint8]) -> HumanGraspEstimate:
+        """Estimate the grasp in a BGR uint8 image; raises InputError / NoHandFoundError."""
+        return self.classify_timed(image_bgr)[0]
+
+    def classify_timed(self, image_bgr) -> tuple[HumanGraspEstimate, Timings]:
+        """`classify` plus the time spent per stage."""
+        image = check_image(image_bgr)
+        t0 = time.perf_counter()
+        crop = segment_hand(image)
+        t1 = time.perf_counter()
+        db, index = self.database, self.index  # loaded on first use (not timed)
+        t1b = time.perf_counter()
+        query = db.pca.project(hog_descriptor(crop.patch))
+        t2 = time.perf_counter()
+        distances, ids = index.search(query, min(self.k, len(db)))
+        t3 = time.perf_counter()
+        estimate = self._estimate(db, distances[0], ids[0], crop, image.shape)
+        return estimate, Timings(t1 - t0, t2 - t1b, t3 - t2)
+
+    def _estimate(self, db, distances, ids, crop, shape) -> HumanGraspEstimate:
+        valid = ids >= 0
+        distances, ids = distances[valid], ids[valid]
+        weights = 1.0 / np.maximum(distances, DISTANCE_FLOOR)
+        labels = db.labels[ids]
+        votes = np.bincount(labels, weights=weights, minlength=len(GRASPS))
+        winner = int(np.argmax(votes))
+        same = labels == winner
+        rotations = np.array([R_from_quat_xyzw(q) for q in db.quat_xyzw[ids]])
+        R_cam_hand = average_rotations(rotations[same], weights[same])
+        neighbours = tuple(
+            Neighbour(int(db.view_ids[i]), GRASPS[int(db.labels[i])], R, float(d))
+            for i, R, d in zip(ids, rotations, distances, strict=True)
+        )
+        return HumanGraspEstimate(
+            grasp=GRASPS[winner],
+            confidence=float(votes[winner] / votes.sum()),
+            R_cam_hand=R_cam_hand,
+            p_cam_hand=self._palm_position(db, ids[same], weights[same], crop, shape),
+            neighbours=neighbours,
+        )
+
+    def _palm_position(self, db, ids, weights, crop, shape) -> NDArray[np.float64]:
+        """Palm position [m] in the camera frame: depth from the crop side and the
+        neighbours' physical crop size, under the assumed field of view."""
+        h, w = shape[:2]
+        f = 0.5 * w / np.tan(np.radians(self.fov_x_deg) / 2)
+        u0, v0, side = crop.box
+        extent = float(np.average(db.crop_extent_m[ids], weights=weights))
+        offset = np.average(db.palm_offset[ids], axis=0, weights=weights)
+        depth = f * extent / side
+        u = u0 + (0.5 + offset[0]) * side
+        v = v0 + (0.5 + offset[1]) * side
+        return np.array([(u - w / 2) / f * depth, (v - h / 2) / f * depth, depth])

@@ -1,0 +1,143 @@
+"""Triangle meshes of the human hand model holding its object, in the palm frame.
+
+The hand is drawn from the collision shapes of robots/human/human.urdf (boxes, cylinders
+and spheres placed by Pinocchio forward kinematics), the object from its
+ObjectDescription placed by `reference_placement`. Everything is expressed in the human
+palm frame (`hh_palm_frame`: +x to the fingertips, +z out of the palm) [m].
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+
+import numpy as np
+import trimesh
+from numpy.typing import NDArray
+
+from graspframe.grasps import HumanGrasp
+from graspframe.hal.objects import ObjectDescription
+from graspframe.transforms import inv_T, transform_points
+
+PALM_FRAME = "hh_palm_frame"
+SPHERE_SUBDIVISIONS = 2
+CYLINDER_SECTIONS = 20
+
+
+@dataclass(frozen=True)
+class Mesh:
+    """Unindexed triangles: positions (3N, 3) [m] and unit normals (3N, 3)."""
+
+    positions: NDArray[np.float32]
+    normals: NDArray[np.float32]
+
+    def transformed(self, T: NDArray[np.float64], scale: float = 1.0) -> Mesh:
+        """This mesh scaled by `scale` about its origin, then moved by the 4x4 pose T."""
+        return Mesh(
+            transform_points(T, self.positions * scale).astype(np.float32),
+            (self.normals @ T[:3, :3].T).astype(np.float32),
+        )
+
+
+def _unindexed(mesh: trimesh.Trimesh, smooth: bool) -> Mesh:
+    faces = mesh.faces.reshape(-1)
+    positions = mesh.vertices[faces]
+    normals = mesh.vertex_normals[faces] if smooth else np.repeat(mesh.face_normals, 3, axis=0)
+    return Mesh(positions.astype(np.float32), normals.astype(np.float32))
+
+
+@functools.cache
+def _unit_meshes() -> dict[str, Mesh]:
+    """Unit box (extents 1), unit cylinder (radius 1, height 1, along z), unit sphere."""
+    return {
+        "box": _unindexed(trimesh.creation.box(extents=(1.0, 1.0, 1.0)), smooth=False),
+        "cylinder": _unindexed(
+            trimesh.creation.cylinder(radius=1.0, height=1.0, sections=CYLINDER_SECTIONS),
+            smooth=True,
+        ),
+        "sphere": _unindexed(
+            trimesh.creation.icosphere(subdivisions=SPHERE_SUBDIVISIONS, radius=1.0),
+            smooth=True,
+        ),
+    }
+
+
+def primitive(kind: str, scale_xyz) -> Mesh:
+    """A unit primitive scaled per axis (normals corrected for the non-uniform scale)."""
+    unit = _unit_meshes()[kind]
+    s = np.asarray(scale_xyz, dtype=np.float32)
+    normals = unit.normals / s
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    return Mesh((unit.positions * s).astype(np.float32), normals.astype(np.float32))
+
+
+def object_mesh(obj: ObjectDescription) -> Mesh:
+    """The object's surface in its own frame (centroid, cylinders along z) [m]."""
+    d = obj.dimensions
+    if obj.shape == "box":
+        return primitive("box", (d["size_x"], d["size_y"], d["size_z"]))
+    if obj.shape == "cylinder":
+        return primitive("cylinder", (d["radius"], d["radius"], d["length"]))
+    return primitive("sphere", (d["radius"],) * 3)
+
+
+def _coal_mesh(shape) -> Mesh:
+    kind = type(shape).__name__
+    if kind == "Box":
+        return primitive("box", 2.0 * np.asarray(shape.halfSide))
+    if kind == "Cylinder":
+        r = shape.radius
+        return primitive("cylinder", (r, r, 2.0 * shape.halfLength))
+    if kind == "Sphere":
+        return primitive("sphere", (shape.radius,) * 3)
+    raise ValueError(f"cannot draw a {kind} collision shape")
+
+
+class HandModel:
+    """The human hand's collision model, meshed per posture in the palm frame."""
+
+    def __init__(self):
+        from graspframe.registry import default_registry
+        from graspframe.robot_model import CollisionModel
+
+        self.description = default_registry().get_hand("human")
+        self.collision = CollisionModel(self.description.model_path)
+        self._shape_meshes = [_coal_mesh(shape) for _, shape, _ in self.collision.shapes()]
+
+    def posture_q(self, grasp: HumanGrasp, closure: float) -> dict[str, float]:
+        """Driven joints [rad] between the open (0) and the closed (1) posture of `grasp`."""
+        preshape = self.description.preshape_for(grasp)
+        return {
+            name: (1.0 - closure) * preshape.open_q[name] + closure * preshape.closed_q[name]
+            for name in preshape.open_q
+        }
+
+    def limits(self) -> dict[str, tuple[float, float]]:
+        """Joint limits [rad] by name."""
+        return {j.name: (j.lower, j.upper) for j in self.description.joints}
+
+    def mesh(self, q_by_joint: dict[str, float]) -> Mesh:
+        """The hand's surface in the palm frame for the driven joints q [rad]."""
+        self.collision.place(self.description.with_model_followers(q_by_joint))
+        T_palm_root = inv_T(self.collision.T_root_frame(PALM_FRAME))
+        parts = [
+            mesh.transformed(T_palm_root @ T_root_shape)
+            for mesh, (_, _, T_root_shape) in zip(
+                self._shape_meshes, self.collision.shapes(), strict=True
+            )
+        ]
+        return Mesh(
+            np.concatenate([p.positions for p in parts]),
+            np.concatenate([p.normals for p in parts]),
+        )
+
+
+def T_palm_object(grasp: HumanGrasp, obj: ObjectDescription | None = None):
+    """Pose of the grasp's object in the palm frame (inverse of the reference placement)."""
+    from graspframe.registry import default_registry
+    from graspframe.strategy.reference_poses import reference_placement
+
+    registry = default_registry()
+    obj = obj or registry.default_object_for(grasp)
+    posture = registry.get_hand("human").preshape_for(grasp)
+    return obj, inv_T(reference_placement(obj, posture).T_object_palm)

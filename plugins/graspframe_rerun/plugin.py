@@ -1,0 +1,32 @@
+"""The rerun recorder as an observer: one recording per run that asks for it."""
+
+from __future__ import annotations
+
+import logging
+
+from graspframe.plugins import hookimpl
+from graspframe_rerun.recording import RunRecording
+
+log = logging.getLogger(__name__)
+_recordings: dict[str, RunRecording] = {}
+
+
+@hookimpl
+def graspframe_run_started(run):
+    if run.params.get("record", False):
+        _recordings[run.run_id] = RunRecording(run.run_id, run.out_dir)
+
+
+@hookimpl
+def graspframe_run_event(run, event):
+    recording = _recordings.get(run.run_id)
+    if recording is not None:
+        recording.handle(event.kind, event.sim_time, event.data)
+
+
+@hookimpl
+def graspframe_run_finished(run, result):
+    recording = _recordings.pop(run.run_id, None)
+    if recording is not None:
+        recording.finish(result)
+        result["recording"] = str(recording.path)

@@ -1,0 +1,284 @@
+"""One run's rerun recording, streamed to a file from the start.
+
+Entity layout (all in the world frame, z up, metres):
+    world/table, world/object                the table top and the object (true pose)
+    world/robot/<link>/<i>                   the robot's collision shapes, posed by FK
+    world/plan/{pre,goal,approach}           the planned palm path
+    world/palm_path                          the executed palm path (one point per cycle)
+    world/contacts/<real finger>             contact forces at the hold, as arrows
+    world/corrections                        goal corrections of the volar strategy
+    vf/robot, vf/human                       virtual fingers, object frame, side by side
+    plots/joints/<joint>, plots/palm_sensor, plots/distance_to_goal   scalars
+    vision/input, vision/mask, vision/neighbours/<k>   classification images
+    log                                      the run's events as text
+Timeline "sim_time" [s]: simulation time of each sample.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import rerun as rr
+
+from graspframe.grasps import PALM
+from graspframe.registry import default_registry
+from graspframe.robot_model import CollisionModel
+
+FINGER_COLOURS = {
+    PALM: (150, 150, 150),
+    "thumb": (230, 97, 1),
+    "index": (27, 158, 119),
+    "middle": (117, 112, 179),
+    "ring": (231, 41, 138),
+    "little": (102, 166, 30),
+}
+FALLBACK_COLOURS = [(230, 171, 2), (166, 118, 29), (31, 120, 180), (251, 154, 153)]
+TABLE_HALF_SIZE = (0.30, 0.40, 0.02)  # [m] drawn under the object
+HUMAN_VF_OFFSET = np.array([0.0, 0.25, 0.0])  # [m] human virtual fingers beside the robot's
+FORCE_ARROW_SCALE = 0.005  # [m/N]
+
+
+def finger_colour(name: str) -> tuple[int, int, int]:
+    if name in FINGER_COLOURS:
+        return FINGER_COLOURS[name]
+    return FALLBACK_COLOURS[sum(map(ord, name)) % len(FALLBACK_COLOURS)]
+
+
+def _shape_archetype(shape, colour):
+    kind = type(shape).__name__
+    if kind == "Box":
+        return rr.Boxes3D(half_sizes=[shape.halfSide], colors=[colour], fill_mode="solid")
+    if kind == "Cylinder":
+        return rr.Cylinders3D(
+            lengths=[2 * shape.halfLength], radii=[shape.radius], colors=[colour], fill_mode="solid"
+        )
+    if kind == "Sphere":
+        return rr.Ellipsoids3D(half_sizes=[[shape.radius] * 3], colors=[colour], fill_mode="solid")
+    return None
+
+
+def _object_archetype(obj, colour=(200, 170, 60)):
+    d = obj.dimensions
+    if obj.shape == "box":
+        half = [d["size_x"] / 2, d["size_y"] / 2, d["size_z"] / 2]
+        return rr.Boxes3D(half_sizes=[half], colors=[colour], fill_mode="solid")
+    if obj.shape == "cylinder":
+        return rr.Cylinders3D(
+            lengths=[d["length"]], radii=[d["radius"]], colors=[colour], fill_mode="solid"
+        )
+    return rr.Ellipsoids3D(half_sizes=[[d["radius"]] * 3], colors=[colour], fill_mode="solid")
+
+
+def _transform(T) -> rr.Transform3D:
+    T = np.asarray(T, dtype=float)
+    return rr.Transform3D(translation=T[:3, 3], mat3x3=T[:3, :3])
+
+
+class RunRecording:
+    """Receives the run's events and logs them to recording.rrd in the run folder."""
+
+    def __init__(self, run_id: str, out_dir: str):
+        self.path = Path(out_dir) / "recording.rrd"
+        self.stream = rr.RecordingStream("graspframe", recording_id=run_id)
+        self.stream.save(str(self.path))
+        self._model: CollisionModel | None = None
+        self._hand = None
+        self._arm = None
+        self._palm_path: list[np.ndarray] = []
+        self._shape_entities: list[str] = []
+
+    # -- helpers -----------------------------------------------------------------------------
+
+    def _log(self, entity: str, archetype, static: bool = False) -> None:
+        self.stream.log(entity, archetype, static=static)
+
+    def _at(self, sim_time: float | None) -> None:
+        if sim_time is not None:
+            self.stream.set_time("sim_time", duration=float(sim_time))
+
+    def text(self, message: str) -> None:
+        self._log("log", rr.TextLog(message))
+
+    # -- events ------------------------------------------------------------------------------
+
+    def handle(self, kind: str, sim_time: float | None, data: dict) -> None:
+        self._at(sim_time)
+        handler = getattr(self, "_on_" + kind.replace(".", "_"), None)
+        if handler is not None:
+            handler(data)
+        if kind != "motion.cycle":
+            self.text(kind + " " + ", ".join(f"{k}={_short(v)}" for k, v in data.items()))
+
+    def _on_world_built(self, data: dict) -> None:
+        registry = default_registry()
+        self._hand = registry.get_hand(data["hand"])
+        self._arm = registry.get_arm(data["arm"])
+        obj = registry.get_object(data["object"])
+        T_world_object = np.asarray(data["T_world_object"])
+        table_centre = [*T_world_object[:2, 3], data["table_height"] - TABLE_HALF_SIZE[2]]
+        self._log(
+            "world/table",
+            rr.Boxes3D(
+                centers=[table_centre], half_sizes=[TABLE_HALF_SIZE], colors=[(120, 90, 60)]
+            ),
+            static=True,
+        )
+        self._log("world/object", _object_archetype(obj), static=True)
+        self._log("world/object", _transform(T_world_object))
+        self._log(
+            "world/object_believed",
+            rr.Points3D(
+                [np.asarray(data["T_world_object_est"])[:3, 3]],
+                radii=0.006,
+                colors=[(255, 0, 0)],
+                labels=["believed object"],
+            ),
+            static=True,
+        )
+        self._model = CollisionModel(data["model_path"])
+        finger_of_link = self._hand.finger_of_link()
+        for index, (link, shape, _) in enumerate(self._model.shapes()):
+            colour = (
+                finger_colour(finger_of_link.get(link, "arm"))
+                if link in finger_of_link
+                else (
+                    235,
+                    120,
+                    20,
+                )
+            )
+            entity = f"world/robot/{link}/{index}"
+            archetype = _shape_archetype(shape, colour)
+            if archetype is not None:
+                self._log(entity, archetype, static=True)
+            self._shape_entities.append(entity)
+        self._T_world_base = np.asarray(data["T_world_arm_base"])
+
+    def _on_plan_done(self, data: dict) -> None:
+        pre = np.asarray(data["T_world_palm_pre"])[:3, 3]
+        goal = np.asarray(data["T_world_palm_goal"])[:3, 3]
+        via = np.asarray(data["T_world_palm_via"])[:3, 3]
+        self._log(
+            "world/plan/path",
+            rr.LineStrips3D([[via, pre, goal]], colors=[(0, 120, 255)]),
+            static=True,
+        )
+        self._log(
+            "world/plan/goal",
+            rr.Points3D([goal], radii=0.006, colors=[(0, 120, 255)], labels=["goal"]),
+            static=True,
+        )
+        self._log(
+            "world/plan/approach",
+            rr.Arrows3D(origins=[pre], vectors=[goal - pre], colors=[(0, 120, 255)]),
+            static=True,
+        )
+
+    def _on_motion_cycle(self, data: dict) -> None:
+        if self._model is None:
+            return
+        q = dict(zip(self._arm.joint_names, np.asarray(data["q_arm"], dtype=float), strict=True))
+        q.update(self._hand.with_model_followers(data["q_hand"]))
+        self._model.place(q)
+        for entity, (_, _, T_base_shape) in zip(
+            self._shape_entities, self._model.shapes(), strict=True
+        ):
+            self._log(entity, _transform(self._T_world_base @ T_base_shape))
+        self._log("world/object", _transform(data["T_world_object"]))
+        self._palm_path.append(np.asarray(data["T_world_palm"])[:3, 3])
+        self._log("world/palm_path", rr.LineStrips3D([self._palm_path], colors=[(255, 255, 255)]))
+        for name, value in q.items():
+            self._log(f"plots/joints/{name}", rr.Scalars(float(value)))
+        self._log("plots/palm_sensor", rr.Scalars(float(bool(data["palm_touched"]))))
+        self._log("plots/distance_to_goal", rr.Scalars(float(data["distance_to_goal"])))
+
+    def _on_execute_first_contact(self, data: dict) -> None:
+        colour = finger_colour(data["real_finger"])
+        self._log(
+            "world/first_contacts",
+            rr.Points3D(
+                [data["p_world"]], radii=0.005, colors=[colour], labels=[data["real_finger"]]
+            ),
+        )
+
+    def _on_execute_correction(self, data: dict) -> None:
+        before, after = np.asarray(data["goal_before"]), np.asarray(data["goal_after"])
+        self._log(
+            f"world/corrections/{data['index']}",
+            rr.Arrows3D(
+                origins=[before],
+                vectors=[after - before],
+                colors=[(255, 60, 60)],
+                labels=[f"correction {data['index']}"],
+            ),
+            static=True,
+        )
+
+    def _on_execute_hold(self, data: dict) -> None:
+        self._log_contacts("world/contacts", data.get("contacts", []), offset=np.zeros(3))
+
+    def _log_contacts(self, root: str, contacts, offset) -> None:
+        by_finger: dict[str, list] = {}
+        for c in contacts:
+            by_finger.setdefault(c.real_finger, []).append(c)
+        for finger, items in by_finger.items():
+            origins = [c.p_world + offset for c in items]
+            vectors = [FORCE_ARROW_SCALE * c.f_world for c in items]
+            self._log(
+                f"{root}/{finger}",
+                rr.Arrows3D(
+                    origins=origins, vectors=vectors, colors=[finger_colour(finger)] * len(items)
+                ),
+                static=True,
+            )
+
+    def _on_score_done(self, data: dict) -> None:
+        self._log_contacts("vf/robot/contacts", data.get("robot_contacts_object", []), np.zeros(3))
+        self._log_contacts("vf/human/contacts", data.get("human_contacts", []), HUMAN_VF_OFFSET)
+        score = data.get("score", {})
+        for side, offset in (("robot", np.zeros(3)), ("human", HUMAN_VF_OFFSET)):
+            vfs = (score.get(side) or {}).get("virtual_fingers", [])
+            if vfs:
+                positions = [np.asarray(vf["position"]) + offset for vf in vfs]
+                normals = [0.03 * np.asarray(vf["normal"]) for vf in vfs]
+                labels = ["+".join(vf["members"]) for vf in vfs]
+                self._log(
+                    f"vf/{side}/virtual_fingers",
+                    rr.Arrows3D(origins=positions, vectors=normals, labels=labels),
+                    static=True,
+                )
+        comparison = score.get("comparison")
+        if comparison:
+            self._log("plots/vf_position_err_mm", rr.Scalars(float(comparison["position_err_mm"])))
+            self._log(
+                "plots/vf_orientation_err_deg", rr.Scalars(float(comparison["orientation_err_deg"]))
+            )
+
+    def _on_classify_images(self, data: dict) -> None:
+        if "image_bgr" in data:
+            self._log(
+                "vision/input", rr.Image(np.asarray(data["image_bgr"])[..., ::-1]), static=True
+            )
+        if "mask" in data:
+            self._log(
+                "vision/mask",
+                rr.SegmentationImage(np.asarray(data["mask"]).astype(np.uint8)),
+                static=True,
+            )
+        for k, thumbnail in enumerate(data.get("neighbours", [])):
+            self._log(f"vision/neighbours/{k}", rr.Image(np.asarray(thumbnail)), static=True)
+
+    def finish(self, result: dict) -> None:
+        self.text(f"run {result.get('status')}: {result.get('error', '')}")
+        self.stream.flush()
+        self.stream.disconnect()
+
+
+def _short(value) -> str:
+    if isinstance(value, np.ndarray):
+        return f"array{value.shape}"
+    if isinstance(value, list | tuple) and len(value) > 6:
+        return f"[{len(value)} items]"
+    text = str(value)
+    return text if len(text) <= 80 else text[:77] + "..."

@@ -1,0 +1,131 @@
+"""`check_hand_command`: a registered hand checked in plain words, every defect named."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from graspframe import registry as registry_module
+from graspframe.checks import check_hand_command
+from graspframe.errors import UnknownNameError
+from graspframe.grasps import PALM, HumanGrasp
+from graspframe.hal import HandDescription, HandPreshape, JointSpec
+from graspframe.plugins import hookimpl
+from graspframe.registry import Registry
+from graspframe.testing import hand_problems
+
+from fakes import FAKE_HAND_URDF, make_fake_hand
+
+PALM_FRAME_JOINT_ORIGIN = '<origin xyz="0 0 0.04" rpy="0 0 0"/>'
+
+
+class _HandPlugin:
+    """A plugin object registering one hand."""
+
+    def __init__(self, hand: HandDescription):
+        self.hand = hand
+
+    @hookimpl
+    def graspframe_register_hands(self, register):
+        register(self.hand)
+
+
+def _registry_with(hand: HandDescription) -> Registry:
+    registry = Registry(strict=True)
+    registry.add_plugin("test_hand", _HandPlugin(hand))
+    return registry
+
+
+def _flipped_palm_urdf(tmp_path: Path) -> Path:
+    """The fake hand with its palm frame turned over: +z points into the palm."""
+    assert FAKE_HAND_URDF.count(PALM_FRAME_JOINT_ORIGIN) == 1
+    path = tmp_path / "flipped_palm.urdf"
+    path.write_text(
+        FAKE_HAND_URDF.replace(
+            PALM_FRAME_JOINT_ORIGIN, '<origin xyz="0 0 0.04" rpy="3.14159 0 0"/>'
+        )
+    )
+    return path
+
+
+def _broken_hand(tmp_path: Path) -> HandDescription:
+    """Five defects at once, each of a different kind."""
+    ok = make_fake_hand(_flipped_palm_urdf(tmp_path), name="broken_hand")
+    too_far = HandPreshape(
+        "pinch",
+        open_q={"fk_finger_joint": 0.1, "fk_thumb_joint": 0.1},
+        closed_q={"fk_finger_joint": 2.0, "fk_thumb_joint": 1.2},  # limit 1.5 rad
+        delta=0.06,
+    )
+    return make_fake_hand(
+        ok.model_path,
+        name="broken_hand",
+        joints=(*ok.joints, JointSpec("fk_index_joint", 0.0, 1.5, 2.0, 2.0)),
+        preshapes={"pinch": too_far},
+        real_fingers={PALM: ("fk_base",), "finger": ("fk_finger",), "thumb": ()},
+        grasp_map={HumanGrasp.PINCH: "pinch"},
+    )
+
+
+EXPECTED_DEFECTS = {
+    "joint not in the model": "joint 'fk_index_joint' is not a movable joint of the model",
+    "palm frame pointing into the palm": "palm frame +z points into the hand",
+    "preshape outside limits": "preshape 'pinch' (closed) puts 'fk_finger_joint' at 2.0000",
+    "real finger with no links": "real finger 'thumb' has no links",
+    "missing mapping entries": "mapping table has no entry for: large_diameter, small_diameter",
+}
+
+
+def test_a_broken_hand_has_every_defect_named(tmp_path, capsys):
+    registry = _registry_with(_broken_hand(tmp_path))
+
+    assert check_hand_command("broken_hand", registry=registry) == 1
+
+    out = capsys.readouterr().out
+    assert out.startswith("hand broken_hand: ")
+    numbered = [line.strip() for line in out.splitlines()[1:]]
+    for defect, words in EXPECTED_DEFECTS.items():
+        assert any(words in line for line in numbered), f"{defect} not named:\n{out}"
+    assert all(line.split(". ", 1)[0].isdigit() for line in numbered), out
+    assert "all checks passed" not in out
+
+
+def test_the_palm_direction_is_checked_even_when_joints_are_wrong(tmp_path):
+    # A wrong joint must not hide a palm frame that points into the palm.
+    hand = make_fake_hand(
+        _flipped_palm_urdf(tmp_path),
+        joints=(JointSpec("fk_index_joint", 0.0, 1.5, 2.0, 2.0),),
+        preshapes={},
+        grasp_map={},
+    )
+    problems = hand_problems(hand)
+    assert any("'fk_index_joint' is not a movable joint" in p for p in problems), problems
+    assert any("palm frame +z points into the hand" in p for p in problems), problems
+
+
+def test_a_good_hand_passes_with_a_summary(fake_hand, capsys):
+    assert check_hand_command("fake_hand", registry=_registry_with(fake_hand)) == 0
+
+    out = capsys.readouterr().out
+    assert out.splitlines()[0] == "hand fake_hand: all checks passed"
+    for words in (
+        "joints (2): fk_finger_joint [0, 1.5], fk_thumb_joint [0, 1.5]",
+        "real fingers (3): palm (1 links), finger (1 links), thumb (1 links)",
+        "preshapes (1): pinch",
+        "mapping: large_diameter -> pinch",
+    ):
+        assert words in out, out
+
+
+def test_the_default_registry_is_used_when_none_is_given(fake_hand, monkeypatch, capsys):
+    registry = _registry_with(fake_hand)
+    monkeypatch.setattr(registry_module, "default_registry", lambda: registry)
+
+    assert check_hand_command("fake_hand") == 0
+    assert "hand fake_hand: all checks passed" in capsys.readouterr().out
+
+
+def test_an_unknown_hand_is_the_registrys_error(fake_hand):
+    with pytest.raises(UnknownNameError, match="fake_hand"):
+        check_hand_command("no_such_hand", registry=_registry_with(fake_hand))
