@@ -325,9 +325,10 @@ def review(
     path = run / "recording.rrd" if run.is_dir() else run
     if not path.is_file():
         raise InputError(f"no recording at {path}; runs record to <run folder>/recording.rrd")
-    viewer = shutil.which("rerun")
+    beside_python = Path(sys.executable).parent / "rerun"
+    viewer = shutil.which("rerun") or (str(beside_python) if beside_python.is_file() else None)
     if viewer is None:
-        raise InputError("the rerun viewer is not on PATH (it ships with rerun-sdk)")
+        raise InputError("the rerun viewer is not installed (it ships with rerun-sdk)")
     raise typer.Exit(subprocess.call([viewer, str(path)]))
 
 

@@ -63,6 +63,19 @@ def new_run_dir(out_root: Path | str, label: str) -> Path:
             path = base.with_name(f"{base.name}-{n}")
 
 
+def read_json_file(path: Path | str, what: str) -> Any:
+    """A JSON input file; an InputError naming `what` if it is missing or malformed."""
+    from graspframe.errors import InputError
+
+    path = Path(path)
+    try:
+        return json.loads(path.read_text())
+    except FileNotFoundError:
+        raise InputError(f"{what} not found: {path}") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"{what} {path} is not readable JSON: {exc}") from exc
+
+
 def write_json(path: Path, data: dict) -> None:
     """Write then rename, so a reader never sees half a file."""
     tmp = path.with_suffix(f".{os.getpid()}.tmp")

@@ -14,7 +14,6 @@ ignored by the run. The object must stand upright on the table (table top at z =
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -22,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError, InputError
+from graspframe.results import read_json_file
 from graspframe.transforms import as_pose
 
 FORMAT = "graspframe.scene/1"
@@ -44,12 +44,7 @@ class Scene:
 def load_scene(path: Path | str) -> Scene:
     """Read and validate a scene file; one-line InputError naming what is wrong."""
     path = Path(path)
-    try:
-        data = json.loads(path.read_text())
-    except FileNotFoundError:
-        raise InputError(f"scene file not found: {path}") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"scene file {path} is not readable JSON: {exc}") from exc
+    data = read_json_file(path, "scene file")
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise InputError(f'scene file {path}: expected a JSON object with "format": "{FORMAT}"')
     missing = [k for k in ("object", "T_world_camera", "T_camera_object") if k not in data]

@@ -89,7 +89,8 @@ def draw(hand, preshape, path: Path) -> None:
             faces = shape_faces(shape, T_palm_root @ T_root_shape)
             colour = colours.get(finger_of_link.get(link, PALM), PALM_COLOUR)
             ax.add_collection3d(
-                Poly3DCollection(faces, facecolor=colour, edgecolor="k", linewidths=0.1, alpha=0.8)
+                Poly3DCollection(faces, facecolor=colour, edgecolor="k", linewidths=0.1, alpha=0.8),
+                autolim=False,
             )
             all_points.extend(np.concatenate(faces))
         points = np.array(all_points)
@@ -102,8 +103,8 @@ def draw(hand, preshape, path: Path) -> None:
         ax.set_ylabel("y [m]")
         ax.set_zlabel("z [m]")
         ax.set_title(f"{label}")
-        ax.quiver(0, 0, 0, 0, 0, 0.04, color="r")  # palm normal
-    fig.suptitle(f"{hand.name}: {preshape.name} (palm frame; red arrow = palm +z)")
+        ax.plot([0, 0], [0, 0], [0, 0.04], color="r", linewidth=2)  # palm normal
+    fig.suptitle(f"{hand.name}: {preshape.name} (palm frame; red line = palm +z)")
     fig.tight_layout()
     fig.savefig(path, dpi=80)
     plt.close(fig)

@@ -36,6 +36,7 @@ from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import Backend, WorldConfig
 from graspframe.hal.objects import ObjectDescription
 from graspframe.mounting import cache_dir
+from graspframe.results import read_json_file
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 
@@ -73,29 +74,14 @@ class HumanReference:
             "grasp": self.grasp.value,
             "object": self.object_name,
             "frame": "object",
-            "contacts": [_contact_json(c) for c in self.contacts],
+            "contacts": [c.to_dict() for c in self.contacts],
         }
-
-
-def _contact_json(contact: Contact) -> dict:
-    return {
-        "real_finger": contact.real_finger,
-        "link": contact.link,
-        "p": [float(v) for v in contact.p_world],
-        "n": [float(v) for v in contact.n_world],
-        "f": [float(v) for v in contact.f_world],
-    }
 
 
 def load_reference_file(path: Path | str) -> HumanReference:
     """Read measured human contacts (format in the module docstring); clear errors."""
     path = Path(path)
-    try:
-        data = json.loads(path.read_text())
-    except FileNotFoundError:
-        raise InputError(f"human contacts file not found: {path}") from None
-    except (OSError, json.JSONDecodeError) as exc:
-        raise InputError(f"human contacts file {path} is not readable JSON: {exc}") from exc
+    data = read_json_file(path, "human contacts file")
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise InputError(f'{path}: expected a JSON object with "format": "{FORMAT}"')
     if data.get("frame") != "object":
