@@ -117,9 +117,23 @@ def demo_paths() -> tuple[Path, Path]:
     return folder / "demo.png", folder / "scene.json"
 
 
-def resolve(request: RunRequest, registry: Registry):
+@dataclass(frozen=True)
+class _Inputs:
+    """Everything a run needs, looked up and read before it starts."""
+
+    hand: object
+    arm: object
+    backend_cls: type
+    obj: object
+    human: object
+    reference_file: HumanReference | None
+    scene: Scene | None
+    image: np.ndarray | None
+
+
+def resolve(request: RunRequest, registry: Registry) -> _Inputs:
     """Look every name up and read every input first: bad input fails before anything
-    runs. Returns (hand, arm, backend class, object, scene or None, image or None)."""
+    runs."""
     hand = registry.get_hand(request.hand)
     arm = registry.get_arm(request.arm)
     backend_cls = registry.get_backend(request.backend)
@@ -145,7 +159,9 @@ def resolve(request: RunRequest, registry: Registry):
         raise InputError(
             f"object error {request.object_error} m is not finite or above {MAX_OBJECT_ERROR} m"
         )
-    return hand, arm, backend_cls, obj, scene, image
+    reference_file = load_reference_file(request.human_contacts) if request.human_contacts else None
+    human = registry.get_hand(HUMAN_HAND)
+    return _Inputs(hand, arm, backend_cls, obj, human, reference_file, scene, image)
 
 
 def run_grasp(
@@ -158,12 +174,9 @@ def run_grasp(
     """
     registry = registry or default_registry()
     progress = progress or (lambda message: None)
-    hand, arm, backend_cls, obj, scene, image = resolve(request, registry)
-    human = registry.get_hand(HUMAN_HAND)
-    reference_file = load_reference_file(request.human_contacts) if request.human_contacts else None
-
+    inputs = resolve(request, registry)
     label = request.grasp.value if request.grasp else Path(request.image or "demo").stem
-    run_dir = new_run_dir(request.out_root, f"{hand.name}-{label}")
+    run_dir = new_run_dir(request.out_root, f"{inputs.hand.name}-{label}")
     run = RunInfo(run_dir.name, str(run_dir), asdict(request))
     recorder = _Recorder(registry, run)
     result: dict = {
@@ -180,7 +193,6 @@ def run_grasp(
     registry.notify_run_started(run)
     started = time.perf_counter()
     try:
-        inputs = _Inputs(hand, arm, backend_cls, obj, human, reference_file, scene, image)
         _execute(request, inputs, registry, recorder, result, progress)
         result["status"] = "ok"
     except BaseException as exc:
@@ -196,18 +208,6 @@ def run_grasp(
         registry.notify_run_finished(run, result)
         write_json(result_path, result)
     return result
-
-
-@dataclass(frozen=True)
-class _Inputs:
-    hand: object
-    arm: object
-    backend_cls: type
-    obj: object
-    human: object
-    reference_file: HumanReference | None
-    scene: Scene | None
-    image: np.ndarray | None
 
 
 def _human_grasp(request, inputs, registry, recorder, result, progress):
