@@ -267,6 +267,9 @@ def evaluate(
     ),
     seed: Annotated[int, typer.Option(help="Seed of every trial.")] = 0,
     time_limit: Annotated[float, typer.Option(help="Per-trial wall-time limit [s].")] = 300.0,
+    record: Annotated[
+        bool, typer.Option("--record/--no-record", help="Record every trial for rerun.")
+    ] = False,
 ) -> None:
     """Experiments A (perfect perception) and B (object position error) for the hands."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
@@ -288,6 +291,7 @@ def evaluate(
         scheduler=scheduler,
         seed=seed,
         time_limit=time_limit,
+        record=record,
     )
     total = len(plan_trials(config))
     with Progress(

@@ -63,6 +63,8 @@ def test_reduced_sweep_local_and_dask_give_the_same_numbers(tmp_path, cache_env)
     assert len(local) == 4 and all(r["status"] == "ok" for r in local)
     dask = run_sweep(_reduced(tmp_path / "dask", "dask"))
     assert _numbers(dask) == _numbers(local)
+    # Sweeps are for numbers: no trial is recorded unless asked for.
+    assert not list((tmp_path / "local" / "runs").glob("*/recording.rrd"))
 
     summary = summarize(local)
     csv_path, md_path = write_tables(summary, tmp_path / "local")

@@ -32,7 +32,8 @@ TRIALS_FILE = "trials.jsonl"
 class SweepConfig:
     """hands, grasps: names; rho: object error radius [m]; directions: of experiment B
     (0: experiment A only); executor: "local" (processes here) or "dask"; scheduler: a
-    Dask scheduler address (None: a local Dask cluster); time_limit: per trial [s]."""
+    Dask scheduler address (None: a local Dask cluster); time_limit: per trial [s];
+    record: write a rerun recording of every trial."""
 
     hands: tuple[str, ...]
     grasps: tuple[str, ...]
@@ -45,6 +46,7 @@ class SweepConfig:
     seed: int = 0
     time_limit: float = TRIAL_TIME_LIMIT
     arm: str = "kuka"
+    record: bool = False
 
     def __post_init__(self) -> None:
         if self.executor not in EXECUTORS:
@@ -60,7 +62,7 @@ def plan_trials(config: SweepConfig) -> list[TrialSpec]:
     conditions = [(CONDITION_A, (0.0, 0.0))]
     conditions += experiment_b_errors(config.rho, config.directions)
     return [
-        TrialSpec(hand, grasp, condition, error, config.seed, runs_dir, config.arm)
+        TrialSpec(hand, grasp, condition, error, config.seed, runs_dir, config.arm, config.record)
         for hand in config.hands
         for grasp in config.grasps
         for condition, error in conditions

@@ -21,7 +21,8 @@ TRIAL_TIME_LIMIT = 300.0  # [s] wall time before a trial is killed and recorded 
 @dataclass(frozen=True)
 class TrialSpec:
     """hand, grasp; condition "A" (perfect perception) or "B<k>" (object error rho in
-    direction beta_k); object_error: [m] (dx, dy) the robot adds to the object position."""
+    direction beta_k); object_error: [m] (dx, dy) the robot adds to the object position;
+    record: write a rerun recording of the trial (off by default: sweeps are for numbers)."""
 
     hand: str
     grasp: str
@@ -30,6 +31,7 @@ class TrialSpec:
     seed: int
     runs_dir: str
     arm: str = "kuka"
+    record: bool = False
 
     @property
     def trial_id(self) -> str:
@@ -57,6 +59,7 @@ def run_trial(spec: TrialSpec) -> dict:
         object_error=spec.object_error,
         seed=spec.seed,
         out_root=spec.runs_dir,
+        record=spec.record,
     )
     row = {"trial_id": spec.trial_id, **asdict(spec)}
     try:
