@@ -151,6 +151,10 @@ def run(
     record: Annotated[
         bool, typer.Option("--record/--no-record", help="Record the run for rerun.")
     ] = True,
+    mount: Annotated[
+        str,
+        typer.Option(help="arm (the hand on --arm) or floating (the hand alone, free base)."),
+    ] = "arm",
 ) -> None:
     """Image of a human grasp -> robot grasp on the arm in simulation, scored.
 
@@ -174,12 +178,19 @@ def run(
         out_root=str(out),
         human_contacts=str(human_contacts) if human_contacts else None,
         record=record,
+        mount=mount,
     )
     result = run_grasp(request, progress=lambda stage: err_console.print(f"[dim]· {stage}[/dim]"))
     _print_run_summary(result)
 
 
+def _tested(value: bool | None) -> str:
+    return "not tested" if value is None else str(value)
+
+
 def _print_run_summary(result: dict) -> None:
+    from graspframe.strategy.executor import LIFT_HEIGHT
+
     plan, outcome, score = result["plan"], result["outcome"], result.get("score", {})
     classification = result.get("classification")
     if classification:
@@ -193,8 +204,9 @@ def _print_run_summary(result: dict) -> None:
     )
     console.print(
         f"corrections: {outcome['corrections']}   palm contact: {outcome['palm_contact']}   "
-        f"held after a {100 * 0.05:.0f} cm lift: {outcome['held_after_lift']} "
-        f"(object rose {1000 * outcome['object_rise']:.0f} mm)"
+        f"held after a {100 * LIFT_HEIGHT:.0f} cm lift: {outcome['held_after_lift']} "
+        f"(object rose {1000 * outcome['object_rise']:.0f} mm)   "
+        f"held under disturbance: {_tested(outcome['held_under_disturbance'])}"
     )
     per_finger: dict[str, int] = {}
     for contact in outcome["contacts_world"]:
@@ -214,6 +226,8 @@ def _print_run_summary(result: dict) -> None:
     elif "error" in score:
         console.print(f"virtual fingers: not scored ({score['error']})")
     console.print(f"result: {result['result_path']}")
+    if result.get("snapshots"):
+        console.print(f"pictures: {result['snapshots']}")
     if result.get("recording"):
         console.print(
             f"recording: {result['recording']}  (graspframe review {result['recording']})"

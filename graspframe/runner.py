@@ -25,13 +25,14 @@ from graspframe.motion.arm_motion import ArmMotion
 from graspframe.registry import Registry, default_registry
 from graspframe.results import new_run_dir, versions, write_json
 from graspframe.scene import Scene, check_on_table, load_scene
+from graspframe.snapshots import Snapshot, SnapshotScene, draw_snapshots
+from graspframe.strategy.arm_path import CheckedPlan, choose_plan, floating_plan
 from graspframe.strategy.executor import ExecutorParams, GraspOutcome, execute_plan
 from graspframe.strategy.human_reference import (
     HumanReference,
     human_reference,
     load_reference_file,
 )
-from graspframe.strategy.planner import PlannerParams, plan_grasp
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 
@@ -40,6 +41,8 @@ log = logging.getLogger(__name__)
 SCENE_OBJECT_XY = (0.55, 0.20)  # [m]
 TABLE_HEIGHT = 0.0  # [m]
 HUMAN_HAND = "human"
+MOUNT_ARM, MOUNT_FLOATING = "arm", "floating"
+MOUNTS = (MOUNT_ARM, MOUNT_FLOATING)
 MAX_OBJECT_ERROR = 0.5  # [m] larger injected errors are surely a unit mistake
 # Per-cycle samples and bulky data go to the observers (the recording), not result.json.
 OBSERVER_ONLY_EVENTS = frozenset({"motion.cycle", "score.done", "classify.images"})
@@ -54,6 +57,8 @@ class RunRequest:
     object_error: [m] (dx, dy) added to the object position the robot believes (the
         object itself stays put). human_contacts: a measured-contacts file replacing the
         simulated human reference. record: stream a rerun recording of the run.
+    mount: "arm" (the hand on `arm`) or "floating" (the hand alone on a free 6-DOF
+        base, as in the method's grasp simulator).
     """
 
     hand: str
@@ -69,6 +74,7 @@ class RunRequest:
     out_root: str = "runs"
     human_contacts: str | None = None
     record: bool = True
+    mount: str = MOUNT_ARM
 
     def command(self) -> str:
         """The command line that repeats this run."""
@@ -77,7 +83,7 @@ class RunRequest:
             parts += ["--grasp", self.grasp.value]
         if self.image:
             parts += ["--image", self.image, "--scene", str(self.scene)]
-        parts += ["--arm", self.arm, "--seed", str(self.seed)]
+        parts += ["--arm", self.arm, "--mount", self.mount, "--seed", str(self.seed)]
         if self.object:
             parts += ["--object", self.object]
         if any(self.object_error):
@@ -134,6 +140,8 @@ class _Inputs:
 def resolve(request: RunRequest, registry: Registry) -> _Inputs:
     """Look every name up and read every input first: bad input fails before anything
     runs."""
+    if request.mount not in MOUNTS:
+        raise InputError(f"unknown mount {request.mount!r}; mounts: {', '.join(MOUNTS)}")
     hand = registry.get_hand(request.hand)
     arm = registry.get_arm(request.arm)
     backend_cls = registry.get_backend(request.backend)
@@ -211,14 +219,14 @@ def run_grasp(
 
 
 def _human_grasp(request, inputs, registry, recorder, result, progress):
-    """(grasp, T_object_hand, p_hand_grasp, T_world_object): the human grasp relative to
-    the object and where the object is, from the stated grasp or from the image."""
+    """(grasp, T_object_human_palm, T_world_object): the human grasp relative to the
+    object and where the object is, from the stated grasp or from the image."""
     obj, human = inputs.obj, inputs.human
     if inputs.scene is None:
         grasp = request.grasp
         placement = reference_placement(obj, human.preshape_for(grasp))
         T_world_object = make_T(p=[*SCENE_OBJECT_XY, TABLE_HEIGHT + obj.half_height])
-        return grasp, placement.T_object_palm, placement.p_palm_grasp, T_world_object
+        return grasp, placement.T_object_palm, T_world_object
 
     progress(f"classifying the image with {request.classifier}")
     classifier = registry.get_classifier(request.classifier)()
@@ -249,7 +257,7 @@ def _human_grasp(request, inputs, registry, recorder, result, progress):
     result["classification"] = classification
     recorder.emit("classify.done", **classification)
     recorder.emit("classify.images", image_bgr=inputs.image, mask=_hand_mask(inputs.image))
-    return grasp, T_object_hand, placement.p_palm_grasp, scene.T_world_object
+    return grasp, T_object_hand, scene.T_world_object
 
 
 def _hand_mask(image):
@@ -258,45 +266,58 @@ def _hand_mask(image):
     return hand_mask(image)
 
 
+def _plan(request, inputs, grasp, T_object_human_palm, T_world_object_est) -> CheckedPlan:
+    """The grasp plan, its path checked on the arm or on the floating base."""
+    if request.mount == MOUNT_FLOATING:
+        return floating_plan(
+            grasp, T_object_human_palm, T_world_object_est, inputs.hand, inputs.obj, TABLE_HEIGHT
+        )
+    return choose_plan(
+        grasp,
+        T_object_human_palm,
+        T_world_object_est,
+        inputs.hand,
+        inputs.arm,
+        inputs.obj,
+        TABLE_HEIGHT,
+        T_world_base=np.eye(4),
+    )
+
+
 def _execute(request, inputs, registry, recorder, result, progress):
-    hand, arm, obj, human = inputs.hand, inputs.arm, inputs.obj, inputs.human
-    grasp, T_object_hand, p_hand_grasp, T_world_object = _human_grasp(
+    hand, obj, human = inputs.hand, inputs.obj, inputs.human
+    grasp, T_object_human_palm, T_world_object = _human_grasp(
         request, inputs, registry, recorder, result, progress
     )
     T_world_object_est = T_world_object.copy()
     T_world_object_est[:2, 3] += request.object_error
 
-    progress(f"planning the {hand.name} grasp for a human {grasp.value}")
-    plan = plan_grasp(
-        grasp,
-        T_object_hand,
-        T_world_object_est,
-        hand,
-        p_hand_grasp=p_hand_grasp,
-        table_height=TABLE_HEIGHT,
-        object_top_height=T_world_object_est[2, 3] + obj.half_height,
-        params=PlannerParams(),
-    )
-    result["plan"] = plan.to_dict()
-    recorder.emit("plan.done", **plan.to_dict())
+    progress(f"planning the {hand.name} grasp for a human {grasp.value} ({request.mount} mount)")
+    checked = _plan(request, inputs, grasp, T_object_human_palm, T_world_object_est)
+    plan = checked.plan
+    result["plan"] = {**plan.to_dict(), "variants_refused": list(checked.refused)}
+    recorder.emit("plan.done", **result["plan"])
 
     progress("building the world")
     config = WorldConfig(
         hand=hand,
-        arm=arm,
+        arm=checked.robot.arm,
         object=obj,
+        T_flange_hand=checked.robot.T_flange_hand,
+        T_world_arm_base=checked.T_world_base,
         T_world_object=T_world_object,
         table_height=TABLE_HEIGHT,
         seed=request.seed,
     )
+    snapshots: list[dict] = []
     with inputs.backend_cls().create_world(config) as world:
         recorder.clock = lambda: world.time
         recorder.emit(
             "world.built",
             hand=hand.name,
-            arm=arm.name,
+            arm=checked.robot.arm.name,
             object=obj.name,
-            model_path=str(world.robot.urdf_path),
+            model_path=str(checked.robot.urdf_path),
             T_world_arm_base=config.T_world_arm_base,
             T_world_object=T_world_object,
             T_world_object_est=T_world_object_est,
@@ -317,22 +338,70 @@ def _execute(request, inputs, registry, recorder, result, progress):
                 ),
             )
 
-        motion = ArmMotion(world, world.robot, config.T_world_arm_base, on_cycle=on_cycle)
+        def emit(kind: str, **data) -> None:
+            if kind == "execute.snapshot":
+                snapshots.append(data)
+            recorder.emit(kind, **data)
+
+        motion = ArmMotion(world, checked.robot, config.T_world_arm_base, on_cycle=on_cycle)
         progress(f"executing the {plan.preshape} preshape ({plan.approach} approach)")
-        outcome = execute_plan(plan, world, motion, hand, ExecutorParams(), emit=recorder.emit)
+        outcome = execute_plan(plan, world, motion, hand, obj, ExecutorParams(), emit=emit)
     result["outcome"] = _outcome_dict(outcome)
+    result["snapshots"] = _draw_snapshots(
+        recorder.run.out_dir, checked, config, snapshots, outcome, grasp
+    )
 
     progress("scoring against the human reference")
     reference = inputs.reference_file or human_reference(grasp, obj, human, inputs.backend_cls())
-    result["score"] = _score(outcome, reference, hand, human)
+    # A grasp turned about a symmetric object's axis is scored in the turned object frame.
+    T_world_object_scored = outcome.T_world_object_at_hold @ make_T(plan.R_object_symmetry)
+    result["score"] = _score(outcome, T_world_object_scored, reference, hand, human)
     recorder.emit(
         "score.done",
         score=result["score"],
         human_contacts=list(reference.contacts),
-        robot_contacts_object=[
-            c.in_frame(outcome.T_world_object_at_hold) for c in outcome.contacts
-        ],
+        robot_contacts_object=[c.in_frame(T_world_object_scored) for c in outcome.contacts],
     )
+
+
+def _draw_snapshots(run_dir, checked, config, snapshots, outcome, grasp) -> str | None:
+    """snapshots.png in the run folder: the robot, object, table and contacts at first
+    contact, hold and after the lift; returns its path (None when nothing was captured)."""
+    if not snapshots:
+        return None
+    hand, arm = config.hand, checked.robot.arm
+    scene = SnapshotScene(
+        urdf_path=checked.robot.urdf_path,
+        T_world_root=checked.T_world_base,
+        palm_frame=hand.palm_frame,
+        finger_of_link=hand.finger_of_link(),
+        joint_followers=hand.with_model_followers,
+        object_shape=config.object.shape,
+        object_dimensions=config.object.dimensions,
+        table_height=config.table_height,
+    )
+    frames = []
+    for data in snapshots:
+        q = dict(data["q_hand"])
+        if data["q_arm"] is not None:
+            q.update(zip(arm.joint_names, data["q_arm"], strict=True))
+        contacts = data["contacts"]
+        frames.append(
+            Snapshot(
+                label=data["label"],
+                q_by_joint=q,
+                T_world_object=data["T_world_object"],
+                contact_points_world=np.array([c.p_world for c in contacts]).reshape(-1, 3),
+                contact_fingers=[c.real_finger for c in contacts],
+            )
+        )
+    verdict = "held" if outcome.success else f"failed: {outcome.failure_reason}"
+    title = (
+        f"{hand.name} on {arm.name}: human {grasp.value} -> {checked.plan.preshape}, "
+        f"{config.object.name}; {verdict}"
+    )
+    path = draw_snapshots(Path(run_dir) / "snapshots.png", scene, frames, title)
+    return str(path)
 
 
 def _outcome_dict(outcome: GraspOutcome) -> dict:
@@ -346,7 +415,11 @@ def _outcome_dict(outcome: GraspOutcome) -> dict:
         "corrections": outcome.corrections,
         "goals": outcome.goals,
         "held_after_lift": outcome.held_after_lift,
+        "held_under_disturbance": outcome.held_under_disturbance,
         "object_rise": outcome.object_rise,
+        "lift_motion": outcome.lift_motion.to_dict() if outcome.lift_motion else None,
+        "disturbance": {d: m.to_dict() for d, m in outcome.disturbance.items()},
+        "disturbance_skipped": outcome.disturbance_skipped,
         "fingers_after_lift": outcome.fingers_after_lift,
         "T_world_object_at_hold": T_world_object,
         "contacts_world": [c.to_dict() for c in outcome.contacts],
@@ -354,14 +427,14 @@ def _outcome_dict(outcome: GraspOutcome) -> dict:
     }
 
 
-def _score(outcome: GraspOutcome, reference: HumanReference, hand, human) -> dict:
-    """Virtual fingers of robot and human, compared in the object frame."""
+def _score(outcome: GraspOutcome, T_world_object, reference: HumanReference, hand, human) -> dict:
+    """Virtual fingers of robot and human, compared in the object frame T_world_object."""
     score: dict = {
         "human_source": reference.source,
         "human_touching_fingers": reference.touching_fingers,
     }
     try:
-        robot_vf = virtual_fingers_from_contacts(outcome.contacts, outcome.T_world_object_at_hold)
+        robot_vf = virtual_fingers_from_contacts(outcome.contacts, T_world_object)
         human_vf = virtual_fingers_from_contacts(list(reference.contacts), np.eye(4))
         comparison = compare(
             robot_vf,

@@ -4,11 +4,11 @@ from graspframe.hal.classifier import Classifier, HumanGraspEstimate, Neighbour
 from graspframe.hal.descriptions import (
     ArmDescription,
     Coupling,
+    DesignObject,
     DriveGains,
     HandDescription,
     HandPreshape,
     JointSpec,
-    PostureObject,
 )
 from graspframe.hal.drivers import ArmDriver, Backend, HandDriver, ObjectProbe, World, WorldConfig
 from graspframe.hal.objects import ObjectDescription
@@ -19,6 +19,7 @@ __all__ = [
     "Backend",
     "Classifier",
     "Coupling",
+    "DesignObject",
     "DriveGains",
     "HandDescription",
     "HandDriver",
@@ -28,7 +29,6 @@ __all__ = [
     "Neighbour",
     "ObjectDescription",
     "ObjectProbe",
-    "PostureObject",
     "World",
     "WorldConfig",
 ]

@@ -14,6 +14,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from graspframe.errors import DescriptionError, UnknownNameError
 from graspframe.grasps import PALM, HumanGrasp
 
@@ -72,11 +74,13 @@ class DriveGains:
 
 
 @dataclass(frozen=True)
-class PostureObject:
-    """The object a (human) posture is shaped for, in the palm frame.
+class DesignObject:
+    """The object a preshape (or a human posture) is shaped for, where it sits in the
+    palm frame when held.
 
-    shape: "cylinder" or "sphere"; centre: [m]; axis: unit vector (cylinders);
-    radius, length: [m] (length for cylinders).
+    shape: "cylinder" or "sphere" (a box is described by its enclosing cylinder);
+    centre: [m] palm frame; axis: unit vector, palm frame (cylinders); radius, length: [m]
+    (length for cylinders).
     """
 
     shape: str
@@ -85,20 +89,38 @@ class PostureObject:
     axis: tuple[float, float, float] | None = None
     length: float | None = None
 
+    def extent_along(self, n_palm) -> float:
+        """[m] half-extent of the object along the unit palm-frame direction n_palm."""
+        n = np.asarray(n_palm, dtype=float)
+        n = n / np.linalg.norm(n)
+        if self.shape == "cylinder" and self.axis is not None and self.length is not None:
+            u = np.asarray(self.axis, dtype=float)
+            u = u / np.linalg.norm(u)
+            along = abs(float(n @ u))
+            return along * self.length / 2 + math.sqrt(max(0.0, 1.0 - along**2)) * self.radius
+        return self.radius
+
 
 @dataclass(frozen=True)
 class HandPreshape:
-    """A preshape: joint targets [rad] for the open and the closed hand.
+    """A preshape: joint targets [rad] for the open and the closed hand, and where the
+    object sits in the hand.
 
     open_q: the configuration the hand takes before approaching.
     closed_q: the targets commanded when closing; on an object the fingers stop
         earlier, in free space they reach it.
     delta: palm-to-fingertip distance [m] of the open preshape along the palm normal,
-        the standoff of the non-volar strategy (METHOD.md section 4.5).
-    grasp_center: [m] palm-frame point where the closing fingers meet an object, when it
-        is not on the palm normal (human-like hands close forward of the palm centre);
-        None means (0, 0, delta).
-    posture_object: for human postures, the object the posture is shaped for.
+        the standoff of the non-volar strategy (docs/method.md#the-grasp-strategy).
+    grasp_center: [m] palm-frame point where the object's centroid should sit when the
+        hand closes on it. None: the design object's centre, else (0, 0, delta). For a
+        volar grasp only its x and y count: the object rests on the palm.
+    design_object: the object the preshape is shaped for, in the palm frame where the
+        hand holds it; the planner scales the grasp centre's height to the real object
+        and the model checks (`graspframe.testing`) hold it with the hand alone.
+    roll: [rad] preferred turn of the robot palm about its normal relative to the human
+        palm (0: the palm frames coincide).
+    opposed: pairs of real fingers that close towards each other (a thumb and a finger);
+        the model checks test that closing in free space brings each pair together.
     """
 
     name: str
@@ -106,12 +128,18 @@ class HandPreshape:
     closed_q: Mapping[str, float]
     delta: float
     grasp_center: tuple[float, float, float] | None = None
-    posture_object: PostureObject | None = None
+    design_object: DesignObject | None = None
+    roll: float = 0.0
+    opposed: tuple[tuple[str, str], ...] = ()
 
     @property
     def grasp_center_palm(self) -> tuple[float, float, float]:
-        """[m] where the fingers close, in the palm frame."""
-        return self.grasp_center if self.grasp_center is not None else (0.0, 0.0, self.delta)
+        """[m] where the object's centroid sits when held, in the palm frame."""
+        if self.grasp_center is not None:
+            return self.grasp_center
+        if self.design_object is not None:
+            return self.design_object.centre
+        return (0.0, 0.0, self.delta)
 
 
 @dataclass(frozen=True)

@@ -103,6 +103,13 @@ class ObjectProbe(ABC):
     @abstractmethod
     def T_world_object(self) -> NDArray[np.float64]: ...
 
+    def apply_force(self, f_world: NDArray[np.float64] | None) -> None:
+        """Push the object's centroid with a constant force [N] (world frame) on every
+        following step, until called again (None: stop pushing). The disturbance test of
+        a grasp uses it; a backend that cannot push the object (hardware) leaves this
+        default, and that test is then reported as not run."""
+        raise NotImplementedError(f"{type(self).__name__} cannot push the object")
+
 
 class World(ABC):
     """A built world: drivers plus the clock. `step` advances by one physics step."""

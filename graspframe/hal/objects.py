@@ -6,6 +6,8 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from graspframe.errors import DescriptionError
 from graspframe.grasps import HumanGrasp
 
@@ -72,6 +74,19 @@ class ObjectDescription:
         if self.shape == "cylinder":
             return math.pi * d["radius"] ** 2 * d["length"]
         return 4.0 / 3.0 * math.pi * d["radius"] ** 3
+
+    def extent_along(self, n_object) -> float:
+        """[m] half-extent of the object along the unit direction n_object (object frame):
+        the largest projection of its surface on that direction, measured from the
+        centroid."""
+        n = np.abs(np.asarray(n_object, dtype=float))
+        n = n / np.linalg.norm(n)
+        d = self.dimensions
+        if self.shape == "box":
+            return float(n @ [d["size_x"] / 2, d["size_y"] / 2, d["size_z"] / 2])
+        if self.shape == "cylinder":
+            return float(n[2] * d["length"] / 2 + math.sqrt(max(0.0, 1 - n[2] ** 2)) * d["radius"])
+        return d["radius"]
 
     @property
     def half_height(self) -> float:

@@ -161,11 +161,13 @@ class ArmMotion:
         distance: float,
         speed: float,
         stop_on_contact: bool = True,
+        each_cycle: Callable[[], None] | None = None,
     ) -> LinearMoveResult:
         """Move the palm along a straight line [m] at `speed` [m/s], orientation kept.
 
         With stop_on_contact, the palm sensor is read after every control cycle and the
-        arm brakes (within its limits) at the first contact.
+        arm brakes (within its limits) at the first contact. each_cycle: called after
+        every control cycle of the move (e.g. to sample the object).
         """
         direction = np.asarray(direction_world, dtype=float)
         norm = np.linalg.norm(direction)
@@ -196,6 +198,8 @@ class ArmMotion:
             self.trajectory.set_target(q_waypoint, qd_waypoint)
             self.cycle()
             cycles += 1
+            if each_cycle is not None:
+                each_cycle()
             if stop_on_contact:
                 reading = self.world.hand.palm_sensor()
                 if reading.touched:

@@ -1,13 +1,24 @@
-"""The executor: carry out a GraspPlan through the driver interfaces (METHOD.md 4.3-4.5).
+"""The executor: carry out a GraspPlan through the driver interfaces (the method's
+strategy, docs/method.md#the-grasp-strategy).
 
-Sequence: open the hand in its preshape while the arm moves the palm to the pre-approach
-pose; approach along a (volar: until the first contact, correcting the goal while that
-contact is not on the palm; non-volar: to the standoff goal, no feedback); close the hand;
-hold; lift. Every step is reported as an event through `emit(kind, **data)`.
+Stages: open the hand in its preshape while the arm moves the palm to the via and the
+pre-approach pose; approach along a (volar: until the first contact, correcting the goal
+while that contact is not on the palm; non-volar: to the standoff goal, no feedback);
+close the hand; hold; lift; push the object (the disturbance test). Every step is
+reported as an event through `emit(kind, **data)`; "execute.snapshot" events carry the
+robot's joint values and the contacts at first contact, at the hold and after the lift,
+for pictures of the grasp.
+
+"Held" (docs/method.md#held): the object rises with a LIFT_HEIGHT lift (at least
+HELD_RISE_FRACTION of it) and stays within MAX_SHIFT_IN_HAND and MAX_TURN_IN_HAND_DEG of
+its pose in the hand at the hold; then, while a force of DISTURBANCE_FRACTION of its
+weight pushes it for DISTURBANCE_TIME along each of +x, -x, +y, -y, +z, -z (world, one
+after the other), it stays within the same bounds of its pose in the hand after the lift.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -18,8 +29,10 @@ from graspframe.contacts import Contact
 from graspframe.errors import GraspframeError, MotionError
 from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import World
+from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.strategy.planner import GraspPlan
+from graspframe.transforms import inv_T, rotation_angle
 
 ALPHA_START = 0.5  # [-] first weight of the contact point in the goal correction
 MAX_CORRECTIONS = 4
@@ -32,14 +45,27 @@ SETTLED_SPEED = 0.05  # [rad/s] the hand counts as closed when no joint moves fa
 HOLD_TIME = 0.5  # [s]
 LIFT_HEIGHT = 0.05  # [m]
 LIFT_SPEED = 0.05  # [m/s]
-HELD_FRACTION = 0.8  # the object is held if it rose by at least this part of the lift
+HELD_RISE_FRACTION = 0.8  # the object must rise by at least this part of the lift
+MAX_SHIFT_IN_HAND = 0.02  # [m] largest displacement of the object in the palm frame
+MAX_TURN_IN_HAND_DEG = 15.0  # [deg] largest rotation of the object in the palm frame
+DISTURBANCE_FRACTION = 0.5  # of the object's weight
+DISTURBANCE_TIME = 0.5  # [s] per direction
+GRAVITY = 9.81  # [m/s^2]
+DISTURBANCE_DIRECTIONS = {
+    "+x": (1.0, 0.0, 0.0),
+    "-x": (-1.0, 0.0, 0.0),
+    "+y": (0.0, 1.0, 0.0),
+    "-y": (0.0, -1.0, 0.0),
+    "+z": (0.0, 0.0, 1.0),
+    "-z": (0.0, 0.0, -1.0),
+}
 MIN_FINGERS = 2  # real fingers (the palm counts as one) that must touch for a grasp
 
 
 @dataclass(frozen=True)
 class ExecutorParams:
-    """alpha_start, max_corrections: the volar correction loop (METHOD.md 4.4);
-    speeds [m/s], distances [m], times [s]."""
+    """alpha_start, max_corrections: the volar correction loop; speeds [m/s], distances
+    [m], times [s]; disturb: run the disturbance test after the lift."""
 
     alpha_start: float = ALPHA_START
     max_corrections: int = MAX_CORRECTIONS
@@ -49,14 +75,36 @@ class ExecutorParams:
     hold_time: float = HOLD_TIME
     lift_height: float = LIFT_HEIGHT
     lift_speed: float = LIFT_SPEED
+    disturb: bool = True
+
+
+@dataclass(frozen=True)
+class InHandMotion:
+    """How far the object moved in the palm frame from a reference pose: shift [m] and
+    turn [deg] (the largest seen over the samples)."""
+
+    shift: float
+    turn_deg: float
+
+    @property
+    def within_bounds(self) -> bool:
+        return self.shift <= MAX_SHIFT_IN_HAND and self.turn_deg <= MAX_TURN_IN_HAND_DEG
+
+    def to_dict(self) -> dict:
+        return {"shift_mm": 1000.0 * self.shift, "turn_deg": self.turn_deg}
 
 
 @dataclass
 class GraspOutcome:
     """What happened: contacts at the hold (world frame), the object, the corrections.
 
-    held_after_lift: the object rose with the hand by at least HELD_FRACTION of the lift.
+    held_after_lift: the object rose with the hand by at least HELD_RISE_FRACTION of the
+        lift and stayed within the in-hand bounds of its pose at the hold.
+    held_under_disturbance: it then stayed within the bounds while pushed in each of the
+        six directions; None when the test did not run (lift failed, backend cannot push).
     object_rise: [m] object height gained during the lift.
+    lift_motion: the object's motion in the hand from the hold to the end of the lift.
+    disturbance: per direction ("+x", ...), the object's largest motion in the hand.
     """
 
     contacts: list[Contact]
@@ -67,6 +115,10 @@ class GraspOutcome:
     object_rise: float
     fingers_after_lift: list[str]
     lift_height: float
+    held_under_disturbance: bool | None = None
+    lift_motion: InHandMotion | None = None
+    disturbance: dict[str, InHandMotion] = field(default_factory=dict)
+    disturbance_skipped: str | None = None
     goals: list[list[float]] = field(default_factory=list)
     aborted: str | None = None
 
@@ -76,7 +128,8 @@ class GraspOutcome:
 
     @property
     def success(self) -> bool:
-        """At least MIN_FINGERS real fingers touched and the object was held in the lift."""
+        """Enough real fingers touched, the object was held in the lift and, when the
+        disturbance test ran, under the disturbance."""
         return self.failure_reason is None
 
     @property
@@ -90,9 +143,24 @@ class GraspOutcome:
         if len(fingers) < MIN_FINGERS:
             return f"only {', '.join(fingers)} touched the object; a grasp needs {MIN_FINGERS}"
         if not self.held_after_lift:
+            moved = ""
+            if self.lift_motion is not None and not self.lift_motion.within_bounds:
+                moved = (
+                    f"; it moved {1000 * self.lift_motion.shift:.0f} mm and "
+                    f"{self.lift_motion.turn_deg:.0f} deg in the hand"
+                )
             return (
                 f"the object slipped during the lift: it rose {1000 * self.object_rise:.0f} mm "
-                f"of the hand's {1000 * self.lift_height:.0f} mm"
+                f"of the hand's {1000 * self.lift_height:.0f} mm{moved}"
+            )
+        if self.held_under_disturbance is False:
+            failed = {d: m for d, m in self.disturbance.items() if not m.within_bounds}
+            direction, motion = next(iter(failed.items()))
+            return (
+                f"the object slipped under the disturbance: pushed along {direction} with half "
+                f"its weight it moved {1000 * motion.shift:.0f} mm and {motion.turn_deg:.0f} deg "
+                f"in the hand (allowed {1000 * MAX_SHIFT_IN_HAND:.0f} mm, "
+                f"{MAX_TURN_IN_HAND_DEG:.0f} deg)"
             )
         return None
 
@@ -100,89 +168,17 @@ class GraspOutcome:
 Emit = Callable[..., None]
 
 
-def _close_hand(world: World, closed_q, time_limit: float, emit: Emit) -> None:
-    world.hand.set_joint_targets(closed_q)
-    names = list(closed_q)
-    check_every = max(1, round(0.05 / world.timestep))
-    previous = world.hand.joint_positions()
-    start = world.time
-    # Move for at least the shortest closing time before testing for the stop.
-    while world.time - start < time_limit:
-        world.step(check_every)
-        current = world.hand.joint_positions()
-        speed = max(abs(current[n] - previous[n]) for n in names) / (check_every * world.timestep)
-        previous = current
-        if world.time - start > 0.2 and speed < SETTLED_SPEED:
-            break
-    emit("execute.closed", duration=world.time - start, q=dict(world.hand.joint_positions()))
-
-
-def _approach_volar(
-    plan: GraspPlan, motion: ArmMotion, hand: HandDescription, p: ExecutorParams, emit: Emit
-) -> tuple[int, bool, list[list[float]]]:
-    """Approach until the first contact; correct while it is not on the palm.
-
-    Returns (corrections, palm contact reached, goals tried)."""
-    a = plan.a_world
-    d_pre = plan.pre_approach_distance
-    T_goal = plan.T_world_palm_goal.copy()
-    goals = [T_goal[:3, 3].tolist()]
-    alpha, corrections = p.alpha_start, 0
-    while True:
-        result = motion.move_palm_linear(a, d_pre + p.approach_overshoot, p.approach_speed)
-        emit(
-            "execute.approach",
-            travel=result.travel,
-            stopped=result.stopped_by_contact,
-            cycles=result.cycles,
-        )
-        if not result.stopped_by_contact:
-            emit("execute.no_contact", goal=T_goal[:3, 3])
-            return corrections, False, goals
-        contact = result.first_contact
-        emit(
-            "execute.first_contact",
-            link=contact.link,
-            real_finger=contact.real_finger,
-            p_world=contact.p_world,
-            on_palm=result.palm_touched,
-        )
-        if result.palm_touched:
-            return corrections, True, goals
-        if corrections >= p.max_corrections:
-            emit("execute.corrections_exhausted", corrections=corrections)
-            return corrections, False, goals
-        # Retreat along the approach line, move the goal towards the contact, go again.
-        motion.move_palm_linear(
-            -a, max(result.travel, 0.0), p.approach_speed, stop_on_contact=False
-        )
-        p_goal_old = T_goal[:3, 3].copy()
-        T_goal[:3, 3] = alpha * contact.p_world + (1.0 - alpha) * p_goal_old
-        corrections += 1
-        emit(
-            "execute.correction",
-            index=corrections,
-            alpha=alpha,
-            p_contact=contact.p_world,
-            goal_before=p_goal_old,
-            goal_after=T_goal[:3, 3].copy(),
-        )
-        goals.append(T_goal[:3, 3].tolist())
-        alpha = alpha**2
-        T_pre = T_goal.copy()
-        T_pre[:3, 3] -= d_pre * a
-        motion.move_palm_to(T_pre)
-
-
 def execute_plan(
     plan: GraspPlan,
     world: World,
     motion: ArmMotion,
     hand: HandDescription,
+    obj: ObjectDescription,
     params: ExecutorParams | None = None,
     emit: Emit | None = None,
 ) -> GraspOutcome:
-    """Execute `plan` on `world` (hand on an arm); see the module docstring.
+    """Execute `plan` on `world` (the hand on an arm or on the floating base); see the
+    module docstring.
 
     When the arm cannot carry the plan out (a pose out of reach, a line through a
     singularity) the grasp is aborted where it stands and the outcome says why.
@@ -192,7 +188,7 @@ def execute_plan(
     if world.object is None:
         raise GraspframeError("executing a grasp needs a world with an object")
     try:
-        return _execute(plan, world, motion, hand, p, emit)
+        return _Execution(plan, world, motion, hand, obj, p, emit).run()
     except MotionError as exc:
         emit("execute.aborted", reason=str(exc))
         return GraspOutcome(
@@ -208,56 +204,255 @@ def execute_plan(
         )
 
 
-def _execute(plan, world, motion, hand, p: ExecutorParams, emit: Emit) -> GraspOutcome:
-    preshape = hand.preshape(plan.preshape)
+def in_hand_motion(
+    T_palm_object_ref: NDArray[np.float64], samples: list[NDArray[np.float64]]
+) -> InHandMotion:
+    """The largest shift [m] and turn [deg] of the object in the palm frame over
+    `samples` (T_palm_object poses), from the reference pose."""
+    shift = max(float(np.linalg.norm(T[:3, 3] - T_palm_object_ref[:3, 3])) for T in samples)
+    turn = max(math.degrees(rotation_angle(T[:3, :3], T_palm_object_ref[:3, :3])) for T in samples)
+    return InHandMotion(shift, turn)
 
-    world.hand.set_joint_targets(preshape.open_q)
-    emit("execute.preshape", preshape=preshape.name)
-    duration = motion.move_palm_to(plan.T_world_palm_via)
-    descent = plan.T_world_palm_via[2, 3] - plan.T_world_palm_pre[2, 3]
-    if descent > 0:
-        down = np.array([0.0, 0.0, -1.0])
-        duration += motion.move_palm_linear(
-            down, descent, p.approach_speed * 2, stop_on_contact=False
-        ).duration
-    emit("execute.pre_approach", duration=duration, T_world_palm=world.hand.T_world_palm())
 
-    if plan.volar:
-        corrections, palm_contact, goals = _approach_volar(plan, motion, hand, p, emit)
-    else:
-        result = motion.move_palm_linear(
-            plan.a_world, plan.pre_approach_distance, p.approach_speed, stop_on_contact=False
+@dataclass
+class _Execution:
+    """One execution of a plan, stage by stage."""
+
+    plan: GraspPlan
+    world: World
+    motion: ArmMotion
+    hand: HandDescription
+    obj: ObjectDescription
+    p: ExecutorParams
+    emit: Emit
+
+    def run(self) -> GraspOutcome:
+        preshape = self.hand.preshape(self.plan.preshape)
+        self._move_to_pre_approach(preshape.open_q)
+        if self.plan.volar:
+            corrections, palm_contact, goals = self._approach_volar()
+        else:
+            corrections, goals = 0, [self.plan.T_world_palm_goal[:3, 3].tolist()]
+            palm_contact = self._approach_non_volar()
+        self._close(preshape.closed_q)
+        self.world.step(round(self.p.hold_time / self.world.timestep))
+        contacts = self.world.hand.contacts()
+        T_world_object_at_hold = self.world.object.T_world_object()
+        self.emit(
+            "execute.hold",
+            fingers=sorted({c.real_finger for c in contacts}),
+            n_contacts=len(contacts),
+            contacts=contacts,
         )
-        emit("execute.approach", travel=result.travel, stopped=False, cycles=result.cycles)
-        corrections, goals = 0, [plan.T_world_palm_goal[:3, 3].tolist()]
-        palm_contact = world.hand.palm_sensor().on_palm
+        self._snapshot("hold", contacts)
+        outcome = GraspOutcome(
+            contacts=contacts,
+            T_world_object_at_hold=T_world_object_at_hold,
+            corrections=corrections,
+            palm_contact=palm_contact,
+            held_after_lift=False,
+            object_rise=0.0,
+            fingers_after_lift=[],
+            lift_height=self.p.lift_height,
+            goals=goals,
+        )
+        self._lift(outcome)
+        if not self.p.disturb:
+            outcome.disturbance_skipped = "not asked for"
+        elif not outcome.held_after_lift:
+            outcome.disturbance_skipped = "the lift failed"
+        else:
+            self._disturb(outcome)
+        return outcome
 
-    _close_hand(world, preshape.closed_q, p.close_time_limit, emit)
-    world.step(round(p.hold_time / world.timestep))
-    contacts = world.hand.contacts()
-    T_world_object_at_hold = world.object.T_world_object()
-    emit(
-        "execute.hold",
-        fingers=sorted({c.real_finger for c in contacts}),
-        n_contacts=len(contacts),
-        contacts=contacts,
-    )
+    # -- stages -------------------------------------------------------------------------
 
-    up = np.array([0.0, 0.0, 1.0])
-    motion.move_palm_linear(up, p.lift_height, p.lift_speed, stop_on_contact=False)
-    world.step(round(p.hold_time / world.timestep))
-    rise = float(world.object.T_world_object()[2, 3] - T_world_object_at_hold[2, 3])
-    fingers_after = sorted({c.real_finger for c in world.hand.contacts()})
-    held = rise >= HELD_FRACTION * p.lift_height
-    emit("execute.lift", object_rise=rise, held=held, fingers=fingers_after)
-    return GraspOutcome(
-        contacts=contacts,
-        T_world_object_at_hold=T_world_object_at_hold,
-        corrections=corrections,
-        palm_contact=palm_contact,
-        held_after_lift=held,
-        object_rise=rise,
-        fingers_after_lift=fingers_after,
-        lift_height=p.lift_height,
-        goals=goals,
-    )
+    def _move_to_pre_approach(self, open_q) -> None:
+        plan, motion = self.plan, self.motion
+        self.world.hand.set_joint_targets(open_q)
+        self.emit("execute.preshape", preshape=plan.preshape)
+        duration = motion.move_palm_to(plan.T_world_palm_via)
+        descent = plan.T_world_palm_via[:3, 3] - plan.T_world_palm_pre[:3, 3]
+        if np.linalg.norm(descent) > 1e-6:
+            duration += motion.move_palm_linear(
+                -descent,
+                float(np.linalg.norm(descent)),
+                self.p.approach_speed * 2,
+                stop_on_contact=False,
+            ).duration
+        self.emit(
+            "execute.pre_approach", duration=duration, T_world_palm=self.world.hand.T_world_palm()
+        )
+
+    def _approach_non_volar(self) -> bool:
+        """Straight to the standoff goal, no feedback; returns whether the palm touches."""
+        result = self.motion.move_palm_linear(
+            self.plan.a_world,
+            self.plan.pre_approach_distance,
+            self.p.approach_speed,
+            stop_on_contact=False,
+        )
+        self.emit("execute.approach", travel=result.travel, stopped=False, cycles=result.cycles)
+        self._snapshot("approach end", self.world.hand.contacts())
+        return self.world.hand.palm_sensor().on_palm
+
+    def _approach_volar(self) -> tuple[int, bool, list[list[float]]]:
+        """Approach until the first contact; correct while it is not on the palm.
+
+        Returns (corrections, palm contact reached, goals tried)."""
+        plan, motion, p, emit = self.plan, self.motion, self.p, self.emit
+        a = plan.a_world
+        d_pre = plan.pre_approach_distance
+        T_goal = plan.T_world_palm_goal.copy()
+        goals = [T_goal[:3, 3].tolist()]
+        alpha, corrections = p.alpha_start, 0
+        while True:
+            result = motion.move_palm_linear(a, d_pre + p.approach_overshoot, p.approach_speed)
+            emit(
+                "execute.approach",
+                travel=result.travel,
+                stopped=result.stopped_by_contact,
+                cycles=result.cycles,
+            )
+            if not result.stopped_by_contact:
+                emit("execute.no_contact", goal=T_goal[:3, 3])
+                self._snapshot("approach end", [])
+                return corrections, False, goals
+            contact = result.first_contact
+            emit(
+                "execute.first_contact",
+                link=contact.link,
+                real_finger=contact.real_finger,
+                p_world=contact.p_world,
+                on_palm=result.palm_touched,
+            )
+            if result.palm_touched:
+                self._snapshot("first contact", self.world.hand.contacts())
+                return corrections, True, goals
+            if corrections >= p.max_corrections:
+                emit("execute.corrections_exhausted", corrections=corrections)
+                self._snapshot("first contact", self.world.hand.contacts())
+                return corrections, False, goals
+            # Retreat along the approach line, move the goal towards the contact, go again.
+            motion.move_palm_linear(
+                -a, max(result.travel, 0.0), p.approach_speed, stop_on_contact=False
+            )
+            p_goal_old = T_goal[:3, 3].copy()
+            p_goal_new = alpha * contact.p_world + (1.0 - alpha) * p_goal_old
+            # Never below the lowest goal the planner allows (the whole hand clears the
+            # table there).
+            p_goal_new[2] = max(p_goal_new[2], plan.min_goal_height)
+            T_goal[:3, 3] = p_goal_new
+            corrections += 1
+            emit(
+                "execute.correction",
+                index=corrections,
+                alpha=alpha,
+                p_contact=contact.p_world,
+                goal_before=p_goal_old,
+                goal_after=T_goal[:3, 3].copy(),
+            )
+            goals.append(T_goal[:3, 3].tolist())
+            alpha = alpha**2
+            T_pre = T_goal.copy()
+            T_pre[:3, 3] -= d_pre * a
+            motion.move_palm_to(T_pre)
+
+    def _close(self, closed_q) -> None:
+        world = self.world
+        world.hand.set_joint_targets(closed_q)
+        names = list(closed_q)
+        check_every = max(1, round(0.05 / world.timestep))
+        previous = world.hand.joint_positions()
+        start = world.time
+        # Move for at least the shortest closing time before testing for the stop.
+        while world.time - start < self.p.close_time_limit:
+            world.step(check_every)
+            current = world.hand.joint_positions()
+            speed = max(abs(current[n] - previous[n]) for n in names) / (
+                check_every * world.timestep
+            )
+            previous = current
+            if world.time - start > 0.2 and speed < SETTLED_SPEED:
+                break
+        self.emit(
+            "execute.closed", duration=world.time - start, q=dict(world.hand.joint_positions())
+        )
+
+    def _lift(self, outcome: GraspOutcome) -> None:
+        world, p = self.world, self.p
+        T_palm_object_hold = self._T_palm_object()
+        samples: list[NDArray[np.float64]] = []
+        self.motion.move_palm_linear(
+            np.array([0.0, 0.0, 1.0]),
+            p.lift_height,
+            p.lift_speed,
+            stop_on_contact=False,
+            each_cycle=lambda: samples.append(self._T_palm_object()),
+        )
+        settle = round(p.hold_time / world.timestep)
+        for _ in range(max(1, settle // 10)):
+            world.step(10)
+            samples.append(self._T_palm_object())
+        rise = float(world.object.T_world_object()[2, 3] - outcome.T_world_object_at_hold[2, 3])
+        outcome.object_rise = rise
+        outcome.lift_motion = in_hand_motion(T_palm_object_hold, samples)
+        outcome.held_after_lift = (
+            rise >= HELD_RISE_FRACTION * p.lift_height and outcome.lift_motion.within_bounds
+        )
+        contacts = world.hand.contacts()
+        outcome.fingers_after_lift = sorted({c.real_finger for c in contacts})
+        self.emit(
+            "execute.lift",
+            object_rise=rise,
+            held=outcome.held_after_lift,
+            fingers=outcome.fingers_after_lift,
+            **outcome.lift_motion.to_dict(),
+        )
+        self._snapshot("after lift", contacts)
+
+    def _disturb(self, outcome: GraspOutcome) -> None:
+        """Push the object with half its weight along each world axis in turn."""
+        world = self.world
+        T_palm_object_ref = self._T_palm_object()
+        force = DISTURBANCE_FRACTION * self.obj.mass * GRAVITY
+        check_every = max(1, round(0.02 / world.timestep))
+        try:
+            for label, direction in DISTURBANCE_DIRECTIONS.items():
+                world.object.apply_force(force * np.asarray(direction))
+                samples = []
+                for _ in range(max(1, round(DISTURBANCE_TIME / (check_every * world.timestep)))):
+                    world.step(check_every)
+                    samples.append(self._T_palm_object())
+                world.object.apply_force(None)
+                outcome.disturbance[label] = in_hand_motion(T_palm_object_ref, samples)
+        except NotImplementedError as exc:
+            outcome.disturbance_skipped = str(exc)
+            outcome.disturbance.clear()
+            self.emit("execute.disturbance", skipped=str(exc))
+            return
+        outcome.held_under_disturbance = all(m.within_bounds for m in outcome.disturbance.values())
+        self.emit(
+            "execute.disturbance",
+            force=force,
+            held=outcome.held_under_disturbance,
+            motion={d: m.to_dict() for d, m in outcome.disturbance.items()},
+        )
+
+    # -- helpers ------------------------------------------------------------------------
+
+    def _T_palm_object(self) -> NDArray[np.float64]:
+        return inv_T(self.world.hand.T_world_palm()) @ self.world.object.T_world_object()
+
+    def _snapshot(self, label: str, contacts: list[Contact]) -> None:
+        """The robot's joints, the object and the contacts now, for pictures."""
+        world = self.world
+        self.emit(
+            "execute.snapshot",
+            label=label,
+            q_arm=None if world.arm is None else world.arm.joint_positions(),
+            q_hand=world.hand.joint_positions(),
+            T_world_palm=world.hand.T_world_palm(),
+            T_world_object=world.object.T_world_object(),
+            contacts=contacts,
+        )

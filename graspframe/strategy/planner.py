@@ -1,52 +1,62 @@
 """The planner: from a human grasp relative to the object to a robot grasp plan.
 
-METHOD.md sections 3 and 4, backend-agnostic. Inputs: the human grasp type and palm pose
-relative to the object (T_object_hand, from the image and the demonstration scene, or a
-reference placement), the robot's belief of the object pose (T_world_object_est, which
-may be wrong), and the hand description. Output: a plain, serialisable GraspPlan.
+The method's steps 3 and 4 (docs/method.md#the-grasp-strategy), backend-agnostic.
+Inputs: the human grasp type and palm pose relative to the object (T_object_human_palm,
+from the image and the demonstration scene, or a reference placement), the robot's
+belief of the object pose (T_world_object_est, which may be wrong), the object and the
+hand description. Output: a plain, serialisable GraspPlan.
 
 Choices the method leaves open (see docs/method.md):
-- Approach selection: the palm is "oriented like the human Small Diameter grasp" when its
-  normal is within SIDE_APPROACH_MAX_TILT_DEG of horizontal and its y axis (across the
-  palm) within the same angle of vertical: then the side approach a_s (the palm normal
-  projected on the table plane), otherwise the top approach a_v (straight down).
 - The robot palm takes the human palm orientation relative to the object (the palm
-  frames of all hands share one convention).
-- Volar grasps (Large and Small Diameter) aim the palm at the human palm position
-  p_h->o. Non-volar grasps aim at the human grasp point (where the human's fingers hold
-  the object) and stop where the robot preshape's grasp centre lands on it. With the
-  default grasp centre (0, 0, delta) and the palm normal along a, this is METHOD's
-  "p_h->o minus delta" along the approach; hands whose fingers close forward of the palm
-  centre declare their grasp centre.
-- A top grasp never drives the fingers into the table: the goal is raised until the
-  fingers' closing sweep depth stays TABLE_CLEARANCE above the table top. A non-volar top
-  grasp (no feedback) never drives the palm into the object either: the goal stays
-  PALM_CLEARANCE above the top of the object where the robot believes it is.
+  frames of all hands share one convention), turned by the preshape's preferred roll
+  about the palm normal.
+- The object goes where the robot hand holds it: the preshape's grasp centre in the palm
+  frame (its design object's centre), with the height along the palm normal set by the
+  real object's extent: a volar grasp rests the object on the palm; a non-volar grasp
+  keeps the object's near face where the design object's was, never closer to the palm
+  than PALM_CLEARANCE. With the default grasp centre (0, 0, delta) this is the method's
+  "p_h->o minus delta" along the approach.
+- Approach selection follows the palm normal: within SIDE_APPROACH_MAX_TILT_DEG of
+  horizontal, the side approach a_s (the normal projected on the table plane); pointing
+  further down, the top approach a_v (straight down). A palm facing up cannot be
+  approached from below the table and is refused.
+- The whole hand stays TABLE_CLEARANCE above the table at the goal: every shape of the
+  hand (palm included), in the goal orientation, over the closing motion (each finger
+  stopping at the object), sets the lowest allowed palm height; the goal is raised to it
+  and the volar correction loop never goes below it.
+- Alternatives for a collision-free arm path (graspframe/strategy/arm_path.py): the
+  grasp may be turned about the object's vertical axis when the object is symmetric
+  about it (yaw), moved up along an upright object's axis (raise), and the via pose may
+  be higher.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError
 from graspframe.grasps import HumanGrasp
-from graspframe.hal.descriptions import HandDescription
-from graspframe.strategy.hand_geometry import closing_sweep_depth
-from graspframe.transforms import as_pose
+from graspframe.hal.descriptions import HandDescription, HandPreshape
+from graspframe.hal.objects import ObjectDescription
+from graspframe.strategy.hand_geometry import closing_configurations, lowest_hand_point
+from graspframe.transforms import as_pose, inv_T, make_T
 
 SIDE_APPROACH_MAX_TILT_DEG = 30.0
 PRE_APPROACH_DISTANCE = 0.10  # [m] the approach starts this far before the goal
 # A side approach reaches its pre-approach pose by coming straight down from this much
 # higher, so the open hand does not sweep through the object on its way there.
 SIDE_VIA_RISE = 0.15  # [m]
-# Top grasps keep the deepest reach of the closing fingers this far above the table.
-TABLE_CLEARANCE = 0.01  # [m]
-PALM_CLEARANCE = 0.005  # [m] of a non-volar palm goal above the believed object top
+TABLE_CLEARANCE = 0.01  # [m] of the whole hand above the table at the goal
+PALM_CLEARANCE = 0.005  # [m] of a non-volar object's near face from the palm
 DOWN = np.array([0.0, 0.0, -1.0])
+
+
+class PlanningError(GraspframeError):
+    """No plan satisfies the constraints; the message says which and why."""
 
 
 @dataclass(frozen=True)
@@ -54,12 +64,41 @@ class PlannerParams:
     """side_approach_max_tilt_deg: threshold of the approach selection [deg];
     pre_approach_distance: start of the approach before the goal along a [m];
     side_via_rise: height of the via pose above a side pre-approach pose [m];
-    table_clearance: of the closing fingers above the table in a top grasp [m]."""
+    table_clearance: of the whole hand above the table [m];
+    palm_clearance: of a non-volar object's near face from the palm [m]."""
 
     side_approach_max_tilt_deg: float = SIDE_APPROACH_MAX_TILT_DEG
     pre_approach_distance: float = PRE_APPROACH_DISTANCE
     side_via_rise: float = SIDE_VIA_RISE
     table_clearance: float = TABLE_CLEARANCE
+    palm_clearance: float = PALM_CLEARANCE
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One alternative of the same grasp.
+
+    yaw_deg: [deg] the grasp turned about the object's vertical axis (objects symmetric
+        about it only: the grasp is the same grasp of the same object).
+    raise_along_axis: [m] the object held this much lower in the hand, i.e. the hand
+        higher up an upright object's axis.
+    via_rise: [m] height of the via pose above a side pre-approach pose (None: the
+        planner's default).
+    mounting: the hand's mounting on the arm flange (a name in HandDescription.mountings).
+    """
+
+    yaw_deg: float = 0.0
+    raise_along_axis: float = 0.0
+    via_rise: float | None = None
+    mounting: str | None = None
+
+    def to_dict(self) -> dict:
+        return {
+            "yaw_deg": self.yaw_deg,
+            "raise_along_axis": self.raise_along_axis,
+            "via_rise": self.via_rise,
+            "mounting": self.mounting,
+        }
 
 
 @dataclass(frozen=True)
@@ -67,13 +106,19 @@ class GraspPlan:
     """A robot grasp to execute, in the world frame of the robot's belief.
 
     approach: "side" or "top"; a_world: unit approach direction.
+    T_object_human_palm: the human palm pose the plan copies (object frame).
+    T_object_palm: the robot palm at the goal (object frame of the robot's belief).
+    p_palm_object: [m] where the object's centroid sits in the palm frame at the goal.
     T_world_palm_goal: volar: where the palm should touch; non-volar: where it stops.
     T_world_palm_pre: start of the approach (goal - pre_approach_distance * a).
     T_world_palm_via: reached first; the palm then moves straight to the pre-approach
         pose (equal to it for a top approach).
-    standoff: [m] delta used for a non-volar goal (0 for volar).
-    table_raise: [m] how far the goal was raised to keep the fingers off the table and
-        the palm off the object.
+    standoff: [m] height of the object's centroid above the palm (p_palm_object z).
+    table_raise: [m] how far the goal was raised to keep the whole hand off the table.
+    min_goal_height: [m] lowest world height of the palm origin that keeps the hand
+        TABLE_CLEARANCE above the table (the correction loop stays above it).
+    R_object_symmetry: rotation of the object frame that the variant's yaw used (the
+        object looks the same after it); the score turns robot contacts back by it.
     """
 
     hand: str
@@ -82,13 +127,18 @@ class GraspPlan:
     volar: bool
     approach: str
     a_world: NDArray[np.float64]
-    T_object_hand: NDArray[np.float64]
+    T_object_human_palm: NDArray[np.float64]
+    T_object_palm: NDArray[np.float64]
+    p_palm_object: NDArray[np.float64]
     T_world_object_est: NDArray[np.float64]
     T_world_palm_goal: NDArray[np.float64]
     T_world_palm_pre: NDArray[np.float64]
     T_world_palm_via: NDArray[np.float64]
     standoff: float
-    table_raise: float = 0.0
+    table_raise: float
+    min_goal_height: float
+    variant: Variant = field(default_factory=Variant)
+    R_object_symmetry: NDArray[np.float64] = field(default_factory=lambda: np.eye(3))
 
     @property
     def pre_approach_distance(self) -> float:
@@ -103,84 +153,115 @@ class GraspPlan:
             "volar": self.volar,
             "approach": self.approach,
             "a_world": self.a_world.tolist(),
-            "T_object_hand": self.T_object_hand.tolist(),
+            "T_object_human_palm": self.T_object_human_palm.tolist(),
+            "T_object_palm": self.T_object_palm.tolist(),
+            "p_palm_object": self.p_palm_object.tolist(),
             "T_world_object_est": self.T_world_object_est.tolist(),
             "T_world_palm_goal": self.T_world_palm_goal.tolist(),
             "T_world_palm_pre": self.T_world_palm_pre.tolist(),
             "T_world_palm_via": self.T_world_palm_via.tolist(),
             "standoff": self.standoff,
             "table_raise": self.table_raise,
+            "min_goal_height": self.min_goal_height,
+            "variant": self.variant.to_dict(),
+            "R_object_symmetry": self.R_object_symmetry.tolist(),
         }
-
-
-def is_side_orientation(R_world_palm: NDArray[np.float64], max_tilt_deg: float) -> bool:
-    """True when the palm is oriented like a human Small Diameter grasp: its normal
-    (palm z) near horizontal and the axis across the palm (palm y) near vertical."""
-    z_palm, y_palm = R_world_palm[:, 2], R_world_palm[:, 1]
-    normal_tilt = math.degrees(math.asin(min(1.0, abs(z_palm[2]))))
-    y_from_vertical = math.degrees(math.acos(min(1.0, abs(y_palm[2]))))
-    return normal_tilt <= max_tilt_deg and y_from_vertical <= max_tilt_deg
 
 
 def approach_direction(
     R_world_palm: NDArray[np.float64], params: PlannerParams
 ) -> tuple[str, NDArray[np.float64]]:
-    """("side", a_s) along the palm normal in the table plane, or ("top", a_v) down."""
-    if is_side_orientation(R_world_palm, params.side_approach_max_tilt_deg):
-        a = R_world_palm[:, 2].copy()
-        a[2] = 0.0
-        return "side", a / np.linalg.norm(a)
-    return "top", DOWN.copy()
+    """("side", a_s) along the palm normal in the table plane when the normal is within
+    the threshold of horizontal, ("top", a_v) straight down when it points further down.
+    A palm facing up (normal above the threshold) raises PlanningError."""
+    z_palm = R_world_palm[:, 2]
+    limit = math.sin(math.radians(params.side_approach_max_tilt_deg))
+    if z_palm[2] < -limit:
+        return "top", DOWN.copy()
+    if z_palm[2] > limit:
+        tilt = math.degrees(math.asin(min(1.0, z_palm[2])))
+        raise PlanningError(
+            f"the palm faces up ({tilt:.0f} deg above horizontal): no approach from below "
+            f"the table; side grasps accept up to {params.side_approach_max_tilt_deg:.0f} deg"
+        )
+    a = z_palm.copy()
+    a[2] = 0.0
+    return "side", a / np.linalg.norm(a)
+
+
+def object_in_palm(
+    preshape: HandPreshape,
+    obj: ObjectDescription,
+    R_object_palm: NDArray[np.float64],
+    volar: bool,
+    palm_clearance: float = PALM_CLEARANCE,
+) -> NDArray[np.float64]:
+    """[m] where the object's centroid sits in the palm frame (see the module docstring)."""
+    centre = np.array(preshape.grasp_center_palm, dtype=float)
+    extent = obj.extent_along(R_object_palm[:, 2])
+    if volar:
+        centre[2] = extent
+        return centre
+    design = preshape.design_object
+    if design is not None:
+        centre[2] += extent - design.extent_along((0.0, 0.0, 1.0))
+    centre[2] = max(centre[2], extent + palm_clearance)
+    return centre
+
+
+def is_symmetric_about_z(obj: ObjectDescription) -> bool:
+    """True when any turn about the object's z axis leaves it unchanged."""
+    return obj.shape in ("cylinder", "sphere")
 
 
 def plan_grasp(
     grasp: HumanGrasp,
-    T_object_hand: NDArray[np.float64],
+    T_object_human_palm: NDArray[np.float64],
     T_world_object_est: NDArray[np.float64],
     hand: HandDescription,
-    p_hand_grasp: NDArray[np.float64] | None = None,
+    obj: ObjectDescription,
     table_height: float = 0.0,
-    object_top_height: float | None = None,
     params: PlannerParams | None = None,
+    variant: Variant | None = None,
 ) -> GraspPlan:
-    """Plan the robot grasp (METHOD.md 4.1-4.3, goals of 4.4 and 4.5).
+    """Plan the robot grasp (preshape, approach, goals; see the module docstring).
 
-    p_hand_grasp: [m] the human grasp point in the human palm frame (where the object
-        sits in the human's hand); None: on the palm normal at the human palm.
     table_height: [m] world height of the table top.
-    object_top_height: [m] world height of the top of the object as believed (None:
-        unknown, no palm clamp).
+    variant: an alternative of the grasp (default: none).
     """
     params = params or PlannerParams()
-    T_object_hand = as_pose(T_object_hand, "T_object_hand")
+    variant = variant or Variant()
+    T_object_human_palm = as_pose(T_object_human_palm, "T_object_human_palm")
     T_world_object_est = as_pose(T_world_object_est, "T_world_object_est")
     if not params.pre_approach_distance > 0:
-        raise GraspframeError("pre_approach_distance must be > 0 [m]")
+        raise PlanningError("pre_approach_distance must be > 0 [m]")
+    if variant.yaw_deg and not is_symmetric_about_z(obj):
+        raise PlanningError(f"a {obj.shape} is not symmetric about its axis: no yaw variant")
     preshape = hand.preshape_for(grasp)
-    T_world_hand = T_world_object_est @ T_object_hand
-    approach, a = approach_direction(T_world_hand[:3, :3], params)
     volar = grasp.volar_for_robot
 
-    T_goal = T_world_hand.copy()
-    standoff = 0.0
-    if not volar:
-        p_hand = np.zeros(3) if p_hand_grasp is None else np.asarray(p_hand_grasp, dtype=float)
-        p_world_grasp = T_world_hand[:3, :3] @ p_hand + T_world_hand[:3, 3]
-        robot_center = np.asarray(preshape.grasp_center_palm, dtype=float)
-        T_goal[:3, 3] = p_world_grasp - T_world_hand[:3, :3] @ robot_center
-        standoff = float(robot_center[2])
-    table_raise = 0.0
-    if approach == "top":
-        lowest = table_height + closing_sweep_depth(hand, preshape.name) + params.table_clearance
-        if not volar and object_top_height is not None:
-            lowest = max(lowest, object_top_height + PALM_CLEARANCE)
-        table_raise = max(0.0, lowest - T_goal[2, 3])
-        T_goal[2, 3] += table_raise
+    R_object_symmetry = _Rz(math.radians(variant.yaw_deg))
+    R_object_palm = R_object_symmetry @ T_object_human_palm[:3, :3] @ _Rz(preshape.roll)
+    p_palm_object = object_in_palm(preshape, obj, R_object_palm, volar, params.palm_clearance)
+    if variant.raise_along_axis:
+        # The hand higher up the object = the object lower in the palm frame.
+        p_palm_object = p_palm_object - variant.raise_along_axis * (R_object_palm.T @ [0, 0, 1])
+    T_object_palm = make_T(R_object_palm, -R_object_palm @ p_palm_object)
+    T_goal = T_world_object_est @ T_object_palm
+    approach, a = approach_direction(T_goal[:3, :3], params)
+
+    configurations = closing_configurations(hand, preshape, obj, inv_T(T_object_palm))
+    lowest = lowest_hand_point(hand, configurations, T_goal[:3, :3])
+    min_goal_height = table_height + params.table_clearance - lowest
+    table_raise = max(0.0, min_goal_height - T_goal[2, 3])
+    T_goal[2, 3] += table_raise
+
+    T_object_palm = inv_T(T_world_object_est) @ T_goal
     T_pre = T_goal.copy()
     T_pre[:3, 3] -= params.pre_approach_distance * a
     T_via = T_pre.copy()
     if approach == "side":
-        T_via[2, 3] += params.side_via_rise
+        T_via[2, 3] += params.side_via_rise if variant.via_rise is None else variant.via_rise
     return GraspPlan(
         hand=hand.name,
         grasp=grasp,
@@ -188,11 +269,21 @@ def plan_grasp(
         volar=volar,
         approach=approach,
         a_world=a,
-        T_object_hand=T_object_hand,
+        T_object_human_palm=T_object_human_palm,
+        T_object_palm=T_object_palm,
+        p_palm_object=inv_T(T_object_palm)[:3, 3],
         T_world_object_est=T_world_object_est,
         T_world_palm_goal=T_goal,
         T_world_palm_pre=T_pre,
         T_world_palm_via=T_via,
-        standoff=standoff,
+        standoff=float(inv_T(T_object_palm)[2, 3]),
         table_raise=table_raise,
+        min_goal_height=min_goal_height,
+        variant=variant,
+        R_object_symmetry=R_object_symmetry,
     )
+
+
+def _Rz(angle: float) -> NDArray[np.float64]:
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])

@@ -2,7 +2,7 @@
 
 These are the reference placements used when no image is given (`graspframe run --grasp`)
 and for the simulated human reference grasps. Each human posture carries the object it
-was shaped for (`HandPreshape.posture_object`, in the palm frame); the reference placement
+was shaped for (`HandPreshape.design_object`, in the palm frame); the reference placement
 puts the real object where that design object sits, with its centroid at the design
 centre, moved along the palm normal by the difference between the real and the design
 object's extent (a bigger can sits further from the palm).
@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import DescriptionError
-from graspframe.hal.descriptions import HandPreshape, PostureObject
+from graspframe.hal.descriptions import DesignObject, HandPreshape
 from graspframe.hal.objects import ObjectDescription
 from graspframe.transforms import make_T
 
@@ -46,7 +46,9 @@ def _unit(v) -> NDArray[np.float64]:
     return v / np.linalg.norm(v)
 
 
-def _R_object_palm(design: PostureObject) -> NDArray[np.float64]:
+def R_object_palm_for_design(design: DesignObject) -> NDArray[np.float64]:
+    """The palm orientation, in the frame of the object standing upright, that holds it
+    the way `design` lies in the palm (see the module docstring)."""
     if design.axis is None or abs(_unit(design.axis)[2]) > AXIS_ALONG_NORMAL_COS:
         return R_OBJECT_PALM_TOP
     # Map the palm normal to object +x and the cylinder axis (in the palm plane) to
@@ -65,35 +67,22 @@ def _R_object_palm(design: PostureObject) -> NDArray[np.float64]:
     return R
 
 
-def _design_extent_along_normal(design: PostureObject) -> float:
+def _design_extent_along_normal(design: DesignObject) -> float:
     if design.axis is not None and abs(_unit(design.axis)[2]) > AXIS_ALONG_NORMAL_COS:
         return (design.length or 0.0) / 2
     return design.radius
 
 
-def object_extent_along(obj: ObjectDescription, n_object) -> float:
-    """[m] half-extent of an upright object along the unit direction n_object."""
-    n = np.abs(_unit(n_object))
-    d = obj.dimensions
-    if obj.shape == "box":
-        return float(n @ [d["size_x"] / 2, d["size_y"] / 2, d["size_z"] / 2])
-    if obj.shape == "cylinder":
-        return float(n[2] * d["length"] / 2 + np.sqrt(max(0.0, 1 - n[2] ** 2)) * d["radius"])
-    return d["radius"]
-
-
 def reference_placement(obj: ObjectDescription, posture: HandPreshape) -> ReferencePlacement:
     """The human palm pose in the object frame for `posture` holding `obj`."""
-    design = posture.posture_object
+    design = posture.design_object
     if design is None:
         raise DescriptionError(
-            f"posture {posture.name!r} has no posture_object; the reference placement needs "
+            f"posture {posture.name!r} has no design_object; the reference placement needs "
             "the object the posture is shaped for"
         )
-    R = _R_object_palm(design)
+    R = R_object_palm_for_design(design)
     normal_in_object = R[:, 2]
     p_palm_grasp = np.array(design.centre, dtype=float)
-    p_palm_grasp[2] += object_extent_along(obj, normal_in_object) - _design_extent_along_normal(
-        design
-    )
+    p_palm_grasp[2] += obj.extent_along(normal_in_object) - _design_extent_along_normal(design)
     return ReferencePlacement(make_T(R, -R @ p_palm_grasp), p_palm_grasp)

@@ -18,7 +18,7 @@ Instead of robot preshapes the human hand has one posture per human grasp, named
 grasp (grasp_map is the identity). open_q is the pre-grasp posture (shaped for the object,
 open enough for it to come in along the palm normal), closed_q the closing targets past
 contact with the object; closed_q stays clear of self-collision so the hand reaches it in
-free space. The postures were fitted to the design objects in extras["posture_objects"]
+free space. The postures were fitted to the design objects in extras["design_objects"]
 (shapes in the palm frame) by forward kinematics and collision distances (see the doc).
 """
 
@@ -29,11 +29,11 @@ import math
 from graspframe.grasps import PALM, THUMB, HumanGrasp
 from graspframe.hal.descriptions import (
     Coupling,
+    DesignObject,
     DriveGains,
     HandDescription,
     HandPreshape,
     JointSpec,
-    PostureObject,
 )
 from graspframe_robots import model_path
 
@@ -403,8 +403,8 @@ POSTURE_OBJECTS = {
 }
 
 
-def _posture_object(spec: dict) -> PostureObject:
-    return PostureObject(
+def _design_object(spec: dict) -> DesignObject:
+    return DesignObject(
         shape=spec["shape"],
         centre=tuple(spec["centre"]),
         radius=spec["radius"],
@@ -419,7 +419,7 @@ PRESHAPES = {
         _rad(open_deg),
         _rad(closed_deg),
         delta,
-        posture_object=_posture_object(POSTURE_OBJECTS[grasp.value]),
+        design_object=_design_object(POSTURE_OBJECTS[grasp.value]),
     )
     for grasp, (open_deg, closed_deg, delta) in _POSTURES_DEG.items()
 }

@@ -10,6 +10,8 @@ Cylinders stand upright (axis along the object's z); the object frame is the cen
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.objects import ObjectDescription
 from graspframe.plugins import hookimpl
@@ -76,7 +78,29 @@ OBJECTS = (
 )
 
 
+# Every default object also comes about 25% smaller and 25% larger in every dimension
+# (mass scaled with the volume), named <name>_075 and <name>_125: each grasp is tested
+# on all three sizes.
+SIZE_VARIANTS = (0.75, 1.25)
+
+
+def scaled(obj: ObjectDescription, scale: float) -> ObjectDescription:
+    """`obj` with every dimension times `scale` and its mass times scale^3; the variant
+    is nobody's default object."""
+    return replace(
+        obj,
+        name=f"{obj.name}_{round(100 * scale):03d}",
+        dimensions={k: scale * v for k, v in obj.dimensions.items()},
+        mass=obj.mass * scale**3,
+        default_for=frozenset(),
+        summary=f"{obj.summary.split(':')[0]}, {round(100 * scale)}% size",
+    )
+
+
+SIZED_OBJECTS = tuple(scaled(obj, scale) for obj in OBJECTS for scale in SIZE_VARIANTS)
+
+
 @hookimpl
 def graspframe_register_objects(register):
-    for obj in OBJECTS:
+    for obj in (*OBJECTS, *SIZED_OBJECTS):
         register(obj)

@@ -6,6 +6,7 @@ import math
 from collections.abc import Mapping, Sequence
 
 import numpy as np
+import sapien
 from numpy.typing import NDArray
 
 from graspframe.contacts import Contact, PalmSensorReading
@@ -209,8 +210,27 @@ class SapienHandDriver(HandDriver):
 
 
 class SapienObjectProbe(ObjectProbe):
+    """The object actor's pose, and a force on its centroid re-applied before every step
+    (PhysX clears applied forces after each step)."""
+
     def __init__(self, actor):
         self._actor = actor
+        self._body = actor.find_component_by_type(sapien.physx.PhysxRigidDynamicComponent)
+        self._force: NDArray[np.float64] | None = None
 
     def T_world_object(self) -> NDArray[np.float64]:
         return to_T(self._actor.get_pose())
+
+    def apply_force(self, f_world: NDArray[np.float64] | None) -> None:
+        if f_world is None:
+            self._force = None
+            return
+        f_world = np.asarray(f_world, dtype=float)
+        if f_world.shape != (3,) or not np.all(np.isfinite(f_world)):
+            raise GraspframeError(f"object force must be 3 finite numbers [N], got {f_world}")
+        self._force = f_world
+
+    def before_step(self) -> None:
+        """Apply the standing force for the next physics step."""
+        if self._force is not None:
+            self._body.add_force_torque(self._force.astype(np.float32), np.zeros(3, np.float32))

@@ -93,6 +93,8 @@ class SapienWorld(World):
     def step(self, n: int = 1) -> None:
         for _ in range(n):
             self.hand.update()
+            if self.object is not None:
+                self.object.before_step()
             self._scene.step()
             self._steps += 1
 

@@ -1,0 +1,79 @@
+"""The free-floating mount: a hand on a virtual 6-DOF base instead of an arm.
+
+The method's grasp simulator moves the hand alone, with no arm. graspframe does the same
+by mounting the hand on `FLOATING_BASE`, an `ArmDescription` of six virtual joints
+(prismatic x, y, z of the base frame, then revolute yaw, pitch, roll) with no collision
+shapes: the planner, IK, trajectories and executor run unchanged, and only the hand
+touches the table and the object. The virtual drives are stiff, like a rigid wrist.
+
+`T_world_base_for(T_world_palm, T_flange_palm)` places the base so that its home (all
+joints at 0) puts the palm at a given pose with the revolute joints at the middle of
+their range.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from graspframe.hal.descriptions import ArmDescription, DriveGains, JointSpec
+from graspframe.transforms import inv_T
+
+NAME = "floating"
+MODEL_FILE = "floating_base/floating_base.urdf"
+BASE_LINK = "fb_base"
+FLANGE_LINK = "fb_flange"
+TRAVEL = 1.0  # [m] of each prismatic joint either side of the base
+TURN = math.radians(170.0)  # [rad] of each revolute joint either side of zero
+# Motion limits: a brisk hand-held motion (the method's simulator had none: our choice).
+LINEAR_SPEED, LINEAR_ACCELERATION, LINEAR_JERK = 0.5, 2.0, 20.0  # [m/s], [m/s^2], [m/s^3]
+ANGULAR_SPEED, ANGULAR_ACCELERATION, ANGULAR_JERK = 2.0, 8.0, 80.0  # [rad/s], ...
+FORCE_LIMIT = 1.0e4  # [N] or [N m]: the virtual drives never saturate on a grasp
+# Stiff and overdamped for the hand's ~1 kg: the palm tracks its setpoint within ~0.1 mm
+# under the grasp's forces of a few newtons.
+DRIVE = DriveGains(stiffness=1.0e5, damping=2.0e3, force_limit=FORCE_LIMIT)
+
+
+def _joint(name: str, linear: bool) -> JointSpec:
+    if linear:
+        return JointSpec(
+            name, -TRAVEL, TRAVEL, LINEAR_SPEED, FORCE_LIMIT, LINEAR_ACCELERATION, LINEAR_JERK
+        )
+    return JointSpec(
+        name, -TURN, TURN, ANGULAR_SPEED, FORCE_LIMIT, ANGULAR_ACCELERATION, ANGULAR_JERK
+    )
+
+
+JOINTS = (
+    _joint("fb_x", linear=True),
+    _joint("fb_y", linear=True),
+    _joint("fb_z", linear=True),
+    _joint("fb_yaw", linear=False),
+    _joint("fb_pitch", linear=False),
+    _joint("fb_roll", linear=False),
+)
+
+
+def floating_base() -> ArmDescription:
+    """The virtual base as an arm description (its URDF ships in robots/floating_base/)."""
+    from graspframe_robots import model_path
+
+    return ArmDescription(
+        name=NAME,
+        model_path=model_path(MODEL_FILE),
+        base_link=BASE_LINK,
+        flange_link=FLANGE_LINK,
+        joints=JOINTS,
+        home_q=(0.0,) * len(JOINTS),
+        drive=DRIVE,
+        summary="free-floating hand: a virtual 6-DOF base (x, y, z, yaw, pitch, roll)",
+    )
+
+
+def T_world_base_for(
+    T_world_palm: NDArray[np.float64], T_flange_palm: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """The base pose whose home (every virtual joint at 0) puts the palm at T_world_palm."""
+    return np.asarray(T_world_palm, dtype=float) @ inv_T(T_flange_palm)

@@ -1,0 +1,231 @@
+"""Choosing a grasp plan the robot can carry out without touching the table or the object.
+
+For each variant of the grasp (graspframe/strategy/planner.py: `Variant`), in order, the
+path the executor will follow is rebuilt the way the executor builds it: IK of the via
+pose from the arm's home, the jerk-limited transfer between them (ruckig), the straight
+palm lines via -> pre-approach -> goal (IK tracked waypoint by waypoint). Every sampled
+configuration is checked with Pinocchio's collision tools against the table and the
+object where the robot believes it is:
+
+- transfer and descent to the pre-approach pose: no robot link may touch either;
+- approach: no arm link may touch either, no hand link the table (the hand is meant to
+  reach the object).
+
+The hand is in its open preshape along the whole path. The first variant that passes
+wins; when none does, the plan is refused with the reason of each variant tried.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from graspframe.errors import MotionError
+from graspframe.floating_base import T_world_base_for, floating_base
+from graspframe.grasps import HumanGrasp
+from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.hal.objects import ObjectDescription
+from graspframe.motion.collision import RobotCollisionChecker, object_obstacle, table_obstacle
+from graspframe.motion.ik import IkSolver
+from graspframe.motion.trajectory import JointLimits, plan_joint_trajectory
+from graspframe.mounting import MountedRobot, mount
+from graspframe.robot_model import CollisionModel, summarize_urdf
+from graspframe.strategy.planner import (
+    GraspPlan,
+    PlannerParams,
+    PlanningError,
+    Variant,
+    is_symmetric_about_z,
+    plan_grasp,
+)
+from graspframe.transforms import inv_T
+
+LINE_STEP = 0.005  # [m] between checked configurations on a straight palm line
+TRANSFER_DT = 0.02  # [s] between checked configurations of the transfer
+MAX_WAYPOINT_JUMP = 0.3  # [rad] same bound as the executor's line tracking
+YAWS_DEG = (0.0, 30.0, -30.0, 60.0, -60.0, 90.0, -90.0, 120.0, -120.0, 150.0, -150.0, 180.0)
+RAISES = (0.0, 0.015, 0.03)  # [m] up an upright object's axis, side grasps only
+HIGHER_VIA_RISE = 0.25  # [m]
+
+
+@dataclass(frozen=True)
+class CheckedPlan:
+    """A plan whose path was checked: the plan, the robot it was checked on, where that
+    robot's base stands, and one line per variant refused before it."""
+
+    plan: GraspPlan
+    robot: MountedRobot
+    T_world_base: NDArray[np.float64]
+    refused: tuple[str, ...] = field(default_factory=tuple)
+
+
+def variants(obj: ObjectDescription, side: bool) -> Iterator[Variant]:
+    """The alternatives tried in order: as planned, a higher via, then turned about the
+    object's axis (symmetric objects), then held higher up the object (side grasps)."""
+    yaws = YAWS_DEG if is_symmetric_about_z(obj) else (0.0,)
+    raises = RAISES if side else (0.0,)
+    seen = set()
+    for raise_along_axis in raises:
+        if raise_along_axis > obj.half_height:
+            continue
+        for yaw in yaws:
+            for via_rise in (None, HIGHER_VIA_RISE) if side else (None,):
+                key = (raise_along_axis, yaw, via_rise)
+                if key not in seen:
+                    seen.add(key)
+                    yield Variant(yaw_deg=yaw, raise_along_axis=raise_along_axis, via_rise=via_rise)
+
+
+def _line(
+    ik: IkSolver, q_start, T_base_start, T_base_end, q_hand, step: float = LINE_STEP
+) -> list[NDArray[np.float64]]:
+    """Arm configurations along a straight palm line, tracked from q_start."""
+    distance = float(np.linalg.norm(T_base_end[:3, 3] - T_base_start[:3, 3]))
+    n = max(1, int(np.ceil(distance / step)))
+    q = np.asarray(q_start, dtype=float)
+    path = []
+    for k in range(1, n + 1):
+        T = T_base_start.copy()
+        T[:3, 3] += (k / n) * (T_base_end[:3, 3] - T_base_start[:3, 3])
+        solution = ik.solve(T, q_seed=q, q_hand=q_hand)
+        if float(np.abs(solution.q_arm - q).max()) > MAX_WAYPOINT_JUMP:
+            raise MotionError("the straight palm line passes a singularity or a joint limit")
+        q = solution.q_arm
+        path.append(q)
+    return path
+
+
+def path_problem(
+    plan: GraspPlan,
+    robot: MountedRobot,
+    T_world_base: NDArray[np.float64],
+    hand: HandDescription,
+    obj: ObjectDescription,
+    table_height: float,
+    ik: IkSolver | None = None,
+) -> str | None:
+    """None when the robot can follow the plan's path without touching the table or the
+    object (see the module docstring), else the reason in words."""
+    arm = robot.arm
+    q_hand = dict(hand.preshape(plan.preshape).open_q)
+    ik = ik or IkSolver(robot)
+    tracking = IkSolver(robot, restarts=0)
+    T_base_world = inv_T(T_world_base)
+    T_base = {name: T_base_world @ T for name, T in _poses(plan).items()}
+    q_home = np.asarray(arm.home_q, dtype=float)
+    try:
+        q_via = ik.solve(T_base["via"], q_seed=q_home, q_hand=q_hand).q_arm
+        transfer = plan_joint_trajectory(q_home, q_via, JointLimits.from_arm(arm), TRANSFER_DT).q
+        descent = _line(tracking, q_via, T_base["via"], T_base["pre"], q_hand)
+        q_pre = descent[-1] if descent else q_via
+        approach = _line(tracking, q_pre, T_base["pre"], T_base["goal"], q_hand)
+    except MotionError as exc:
+        return f"unreachable: {exc}"
+
+    checker = RobotCollisionChecker(
+        robot.urdf_path,
+        T_world_base,
+        [
+            table_obstacle(table_height, plan.T_world_object_est[:2, 3]),
+            object_obstacle(obj, plan.T_world_object_est),
+        ],
+    )
+    full_hand_q = hand.with_model_followers(q_hand)
+    hand_links = {link for links in hand.real_fingers.values() for link in links}
+    arm_links = summarize_urdf(str(robot.urdf_path)).links - hand_links
+
+    def configurations(path):
+        return [{**dict(zip(arm.joint_names, q, strict=True)), **full_hand_q} for q in path]
+
+    checks = (
+        ("the transfer from home", transfer, None, None),
+        ("the descent to the pre-approach pose", descent, None, None),
+        ("the approach (arm links)", approach, arm_links, None),
+        ("the approach (hand on the table)", approach, hand_links, ("table",)),
+    )
+    for label, path, links, obstacles in checks:
+        hit = checker.first_collision_on_path(configurations(path), links, obstacles)
+        if hit is not None:
+            return f"{label}: {hit[1].describe()}"
+    return None
+
+
+def _poses(plan: GraspPlan) -> dict[str, NDArray[np.float64]]:
+    return {
+        "via": plan.T_world_palm_via,
+        "pre": plan.T_world_palm_pre,
+        "goal": plan.T_world_palm_goal,
+    }
+
+
+def choose_plan(
+    grasp: HumanGrasp,
+    T_object_human_palm: NDArray[np.float64],
+    T_world_object_est: NDArray[np.float64],
+    hand: HandDescription,
+    arm: ArmDescription,
+    obj: ObjectDescription,
+    table_height: float,
+    T_world_base: NDArray[np.float64],
+    params: PlannerParams | None = None,
+) -> CheckedPlan:
+    """The first variant of the grasp whose path is collision-free on the arm standing
+    at T_world_base; PlanningError listing every variant's reason when none is."""
+    robot = mount(arm, hand)
+    ik = IkSolver(robot)
+    refused = []
+    first = plan_grasp(grasp, T_object_human_palm, T_world_object_est, hand, obj, table_height)
+    for variant in variants(obj, first.approach == "side"):
+        plan = plan_grasp(
+            grasp,
+            T_object_human_palm,
+            T_world_object_est,
+            hand,
+            obj,
+            table_height,
+            params,
+            variant,
+        )
+        problem = path_problem(plan, robot, T_world_base, hand, obj, table_height, ik)
+        if problem is None:
+            return CheckedPlan(plan, robot, np.asarray(T_world_base, dtype=float), tuple(refused))
+        refused.append(f"{_describe(variant)}: {problem}")
+    raise PlanningError(
+        f"no collision-free path for the {hand.name} {grasp.value} grasp on {arm.name} "
+        f"({len(refused)} variants tried; first: {refused[0]})"
+    )
+
+
+def floating_plan(
+    grasp: HumanGrasp,
+    T_object_human_palm: NDArray[np.float64],
+    T_world_object_est: NDArray[np.float64],
+    hand: HandDescription,
+    obj: ObjectDescription,
+    table_height: float,
+    params: PlannerParams | None = None,
+) -> CheckedPlan:
+    """The plan for the hand alone on the floating base, whose home is the via pose (no
+    transfer); its descent and approach are checked like an arm's."""
+    plan = plan_grasp(
+        grasp, T_object_human_palm, T_world_object_est, hand, obj, table_height, params
+    )
+    robot = mount(floating_base(), hand)
+    T_flange_palm = CollisionModel(hand.model_path).T_root_frame(hand.palm_frame)
+    T_world_base = T_world_base_for(plan.T_world_palm_via, T_flange_palm)
+    problem = path_problem(plan, robot, T_world_base, hand, obj, table_height)
+    if problem is not None:
+        raise PlanningError(f"no collision-free path for the free {hand.name} hand: {problem}")
+    return CheckedPlan(plan, robot, T_world_base)
+
+
+def _describe(variant: Variant) -> str:
+    parts = [f"yaw {variant.yaw_deg:+.0f} deg"]
+    if variant.raise_along_axis:
+        parts.append(f"{1000 * variant.raise_along_axis:.0f} mm higher")
+    if variant.via_rise is not None:
+        parts.append(f"via {1000 * variant.via_rise:.0f} mm up")
+    return ", ".join(parts)

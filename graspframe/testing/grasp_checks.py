@@ -1,0 +1,184 @@
+"""Model-level grasp checks of a hand: does its model close and hold at all?
+
+Two checks every hand gets (built-in or third-party; `graspframe check-hand` runs them):
+
+- `closing_problems`: closing each preshape in free space brings its opposing real
+  fingers together: the nearest points of each declared pair (`HandPreshape.opposed`)
+  end within OPPOSED_MAX_GAP of each other, nearer than they started; a preshape that
+  declares no pair needs some pair of real fingers that starts at least
+  OPEN_MIN_GAP apart to end within OPPOSED_MAX_GAP (neighbouring fingers, always
+  close, do not count). Collision shapes placed by Pinocchio, distances by coal.
+- `hold_problems`: the hand alone, on the floating base (no arm), encloses and holds
+  each preshape's design object: it is planned, approached, closed, lifted 5 cm and
+  pushed exactly as a run does (`held` in docs/method.md), in a physics backend.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from graspframe.grasps import HumanGrasp
+from graspframe.hal.descriptions import HandDescription, HandPreshape
+from graspframe.hal.drivers import Backend, WorldConfig
+from graspframe.hal.objects import ObjectDescription
+from graspframe.robot_model import CollisionModel
+from graspframe.strategy.reference_poses import R_object_palm_for_design
+from graspframe.transforms import make_T
+
+OPPOSED_MAX_GAP = 0.015  # [m] largest gap left between opposing fingers, closed in free space
+OPEN_MIN_GAP = 0.03  # [m] an undeclared pair counts as opposing only from this far apart
+DESIGN_DENSITY = 500.0  # [kg/m^3] of a design object (a light everyday object)
+DESIGN_FRICTION = (0.8, 0.6)  # static, dynamic: the default objects' (rubber/matt plastic)
+
+
+def _finger_distance(model: CollisionModel, links_a, links_b) -> float:
+    """[m] smallest distance between any shape of links_a and any shape of links_b."""
+    import coal
+
+    placed = list(model.shapes())
+    best = math.inf
+    for link_a, shape_a, T_a in placed:
+        if link_a not in links_a:
+            continue
+        for link_b, shape_b, T_b in placed:
+            if link_b not in links_b:
+                continue
+            request, result = coal.DistanceRequest(), coal.DistanceResult()
+            distance = coal.distance(
+                shape_a,
+                coal.Transform3s(T_a[:3, :3], T_a[:3, 3]),
+                shape_b,
+                coal.Transform3s(T_b[:3, :3], T_b[:3, 3]),
+                request,
+                result,
+            )
+            best = min(best, float(distance))
+    return best
+
+
+@dataclass(frozen=True)
+class FingerGap:
+    """Gap [m] between two real fingers in the open and the closed preshape."""
+
+    fingers: tuple[str, str]
+    open_gap: float
+    closed_gap: float
+
+
+def closing_gaps(hand: HandDescription, preshape: HandPreshape) -> list[FingerGap]:
+    """Gaps of the preshape's opposed pairs (or of every pair of real fingers when it
+    declares none), open and closed in free space."""
+    model = CollisionModel(hand.model_path)
+    fingers = list(hand.real_fingers)  # the palm opposes the fingers of a power grasp
+    pairs = list(preshape.opposed) or list(itertools.combinations(fingers, 2))
+    gaps = {}
+    for label, q in (("open", preshape.open_q), ("closed", preshape.closed_q)):
+        model.place(hand.with_model_followers(dict(q)))
+        for a, b in pairs:
+            gaps[(a, b, label)] = _finger_distance(
+                model, set(hand.real_fingers[a]), set(hand.real_fingers[b])
+            )
+    return [FingerGap((a, b), gaps[(a, b, "open")], gaps[(a, b, "closed")]) for a, b in pairs]
+
+
+def closing_problems(hand: HandDescription) -> list[str]:
+    """Preshapes whose fingers do not come together when closed in free space."""
+    problems = []
+    for preshape in hand.preshapes.values():
+        gaps = closing_gaps(hand, preshape)
+        if preshape.opposed:
+            bad = [g for g in gaps if not _closes(g)]
+        else:  # no declaration: a pair that starts apart must close
+            apart = [g for g in gaps if g.open_gap >= OPEN_MIN_GAP] or gaps
+            bad = [] if any(_closes(g) for g in apart) else [min(apart, key=lambda g: g.closed_gap)]
+        for gap in bad:
+            problems.append(
+                f"preshape '{preshape.name}': closing in free space leaves {gap.fingers[0]} and "
+                f"{gap.fingers[1]} {1000 * gap.closed_gap:.0f} mm apart (open: "
+                f"{1000 * gap.open_gap:.0f} mm); opposing fingers must end within "
+                f"{1000 * OPPOSED_MAX_GAP:.0f} mm"
+            )
+    return problems
+
+
+def _closes(gap: FingerGap) -> bool:
+    return gap.closed_gap <= OPPOSED_MAX_GAP and gap.closed_gap < gap.open_gap
+
+
+def design_object(preshape: HandPreshape, scale: float = 1.0) -> ObjectDescription:
+    """The preshape's design object as an object description (scaled in every
+    dimension), standing on the table with its axis up."""
+    design = preshape.design_object
+    if design is None:
+        raise ValueError(f"preshape {preshape.name!r} declares no design object")
+    if design.shape == "cylinder":
+        dimensions = {"radius": scale * design.radius, "length": scale * (design.length or 0.0)}
+    else:
+        dimensions = {"radius": scale * design.radius}
+    probe = ObjectDescription(f"{preshape.name}_design", design.shape, dimensions, mass=1.0)
+    return ObjectDescription(
+        name=probe.name,
+        shape=design.shape,
+        dimensions=dimensions,
+        mass=DESIGN_DENSITY * probe.volume,
+        static_friction=DESIGN_FRICTION[0],
+        dynamic_friction=DESIGN_FRICTION[1],
+    )
+
+
+def hand_alone_grasp(
+    hand: HandDescription,
+    grasp: HumanGrasp,
+    backend: Backend,
+    obj: ObjectDescription | None = None,
+    disturb: bool = True,
+):
+    """Plan and execute `grasp` with the hand alone on the floating base, on its design
+    object (or `obj`) standing on a table at z = 0; returns the GraspOutcome."""
+    from graspframe.motion.arm_motion import ArmMotion
+    from graspframe.strategy.arm_path import floating_plan
+    from graspframe.strategy.executor import ExecutorParams, execute_plan
+
+    preshape = hand.preshape_for(grasp)
+    obj = obj or design_object(preshape)
+    R = R_object_palm_for_design(preshape.design_object)
+    T_object_palm = make_T(R, -R @ np.asarray(preshape.grasp_center_palm))
+    T_world_object = make_T(p=[0.0, 0.0, obj.half_height])
+    checked = floating_plan(grasp, T_object_palm, T_world_object, hand, obj, 0.0)
+    config = WorldConfig(
+        hand=hand,
+        arm=checked.robot.arm,
+        object=obj,
+        T_world_arm_base=checked.T_world_base,
+        T_world_object=T_world_object,
+    )
+    with backend.create_world(config) as world:
+        motion = ArmMotion(world, checked.robot, checked.T_world_base)
+        return execute_plan(checked.plan, world, motion, hand, obj, ExecutorParams(disturb=disturb))
+
+
+def hold_problems(hand: HandDescription, backend: Backend) -> list[str]:
+    """Preshapes whose design object the hand alone does not hold (one trial per
+    preshape and volar/non-volar use of it)."""
+    problems = []
+    tried = set()
+    for grasp, preshape_name in hand.grasp_map.items():
+        preshape = hand.preshape(preshape_name)
+        key = (preshape_name, grasp.volar_for_robot)
+        if key in tried:
+            continue
+        tried.add(key)
+        if preshape.design_object is None:
+            problems.append(f"preshape {preshape_name!r} declares no design object to hold")
+            continue
+        outcome = hand_alone_grasp(hand, grasp, backend)
+        if not outcome.success:
+            problems.append(
+                f"preshape {preshape_name!r} ({grasp.value}): the hand alone does not hold its "
+                f"design object: {outcome.failure_reason}"
+            )
+    return problems
