@@ -261,6 +261,16 @@ def _names_option(text: str, kind: str, known: list[str]) -> tuple[str, ...]:
     return names
 
 
+def _sizes_option(text: str) -> tuple[int, ...]:
+    """ "75,125" -> (75, 125): object sizes in percent."""
+    try:
+        return tuple(int(v) for v in text.split(",") if v.strip())
+    except ValueError:
+        raise InputError(
+            f"--sizes must be whole percentages separated by commas, e.g. '75,125'; got {text!r}"
+        ) from None
+
+
 @app.command()
 def evaluate(
     hands: Annotated[str, typer.Option(help="Comma-separated hands.")] = "barrett,karlsruhe",
@@ -284,12 +294,22 @@ def evaluate(
     record: Annotated[
         bool, typer.Option("--record/--no-record", help="Record every trial for rerun.")
     ] = False,
+    mount: Annotated[
+        str, typer.Option(help="Comma-separated mounts: arm, floating (the hand alone).")
+    ] = "arm",
+    sizes: Annotated[
+        str,
+        typer.Option(
+            help="Object sizes [%] besides 100 to repeat experiment A at, e.g. '75,125' "
+            "('' for none)."
+        ),
+    ] = "",
 ) -> None:
     """Experiments A (perfect perception) and B (object position error) for the hands."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
 
     from graspframe.experiments.summary import plot_summary, summarize, write_tables
-    from graspframe.experiments.sweep import SweepConfig, plan_trials, run_sweep
+    from graspframe.experiments.sweep import MOUNTS, SweepConfig, plan_trials, run_sweep
     from graspframe.grasps import HumanGrasp
     from graspframe.registry import default_registry
 
@@ -306,6 +326,8 @@ def evaluate(
         seed=seed,
         time_limit=time_limit,
         record=record,
+        mounts=_names_option(mount, "mount", list(MOUNTS)),
+        sizes=_sizes_option(sizes),
     )
     total = len(plan_trials(config))
     with Progress(

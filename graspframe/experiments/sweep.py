@@ -25,6 +25,7 @@ from graspframe.experiments.trials import (
 )
 
 EXECUTORS = ("local", "dask")
+MOUNTS = ("arm", "floating")
 TRIALS_FILE = "trials.jsonl"
 
 
@@ -33,7 +34,9 @@ class SweepConfig:
     """hands, grasps: names; rho: object error radius [m]; directions: of experiment B
     (0: experiment A only); executor: "local" (processes here) or "dask"; scheduler: a
     Dask scheduler address (None: a local Dask cluster); time_limit: per trial [s];
-    record: write a rerun recording of every trial."""
+    record: write a rerun recording of every trial; mounts: "arm" and/or "floating";
+    sizes: [%] object sizes besides 100 at which experiment A is repeated, on the
+    catalogue's scaled objects <default object>_<size> (e.g. 75 -> large_cylinder_075)."""
 
     hands: tuple[str, ...]
     grasps: tuple[str, ...]
@@ -47,6 +50,8 @@ class SweepConfig:
     time_limit: float = TRIAL_TIME_LIMIT
     arm: str = "kuka"
     record: bool = False
+    mounts: tuple[str, ...] = ("arm",)
+    sizes: tuple[int, ...] = ()
 
     def __post_init__(self) -> None:
         if self.executor not in EXECUTORS:
@@ -55,18 +60,55 @@ class SweepConfig:
             )
         if self.workers < 1 or self.directions < 0 or not self.rho >= 0:
             raise InputError("a sweep needs workers >= 1, directions >= 0 and rho >= 0")
+        unknown = [m for m in self.mounts if m not in MOUNTS]
+        if unknown or not self.mounts:
+            raise InputError(
+                f"unknown mount {unknown[0] if unknown else ''!r}; mounts: {', '.join(MOUNTS)}"
+            )
+        if any(not 0 < size <= 999 or size == 100 for size in self.sizes):
+            raise InputError(f"sizes are percentages in 1..999 other than 100, got {self.sizes}")
 
 
 def plan_trials(config: SweepConfig) -> list[TrialSpec]:
+    """Every trial: per mount, hand and grasp, A, then B0.., then A at each size."""
+    from graspframe.grasps import HumanGrasp
+    from graspframe.registry import default_registry
+
     runs_dir = str(Path(config.out_dir) / "runs")
     conditions = [(CONDITION_A, (0.0, 0.0))]
     conditions += experiment_b_errors(config.rho, config.directions)
-    return [
-        TrialSpec(hand, grasp, condition, error, config.seed, runs_dir, config.arm, config.record)
-        for hand in config.hands
-        for grasp in config.grasps
-        for condition, error in conditions
-    ]
+    specs = []
+    for mount in config.mounts:
+        for hand in config.hands:
+            for grasp in config.grasps:
+                common = dict(
+                    seed=config.seed,
+                    runs_dir=runs_dir,
+                    arm=config.arm,
+                    record=config.record,
+                    mount=mount,
+                )
+                for condition, error in conditions:
+                    specs.append(TrialSpec(hand, grasp, condition, error, **common))
+                if config.sizes:
+                    default = default_registry().default_object_for(HumanGrasp.parse(grasp))
+                    for size in config.sizes:
+                        specs.append(
+                            TrialSpec(
+                                hand,
+                                grasp,
+                                size_condition(size),
+                                (0.0, 0.0),
+                                object=f"{default.name}_{size:03d}",
+                                **common,
+                            )
+                        )
+    return specs
+
+
+def size_condition(size: int) -> str:
+    """The condition name of experiment A at `size` percent, e.g. "A075"."""
+    return f"{CONDITION_A}{size:03d}"
 
 
 def load_finished(path: Path) -> dict[str, dict]:

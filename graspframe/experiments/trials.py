@@ -20,9 +20,12 @@ TRIAL_TIME_LIMIT = 300.0  # [s] wall time before a trial is killed and recorded 
 
 @dataclass(frozen=True)
 class TrialSpec:
-    """hand, grasp; condition "A" (perfect perception) or "B<k>" (object error rho in
-    direction beta_k); object_error: [m] (dx, dy) the robot adds to the object position;
-    record: write a rerun recording of the trial (off by default: sweeps are for numbers)."""
+    """hand, grasp; condition "A" (perfect perception), "B<k>" (object error rho in
+    direction beta_k) or "A<size>" (perfect perception on the object scaled to <size>
+    percent, e.g. "A075"); object_error: [m] (dx, dy) the robot adds to the object
+    position; object: the object's name (None: the grasp's default object); mount: "arm"
+    or "floating"; record: write a rerun recording of the trial (off by default: sweeps
+    are for numbers)."""
 
     hand: str
     grasp: str
@@ -32,10 +35,12 @@ class TrialSpec:
     runs_dir: str
     arm: str = "kuka"
     record: bool = False
+    mount: str = "arm"
+    object: str | None = None
 
     @property
     def trial_id(self) -> str:
-        return f"{self.hand}/{self.grasp}/{self.condition}"
+        return f"{self.mount}/{self.hand}/{self.grasp}/{self.condition}"
 
 
 def experiment_b_errors(rho: float, directions: int) -> list[tuple[str, tuple[float, float]]]:
@@ -56,6 +61,8 @@ def run_trial(spec: TrialSpec) -> dict:
         hand=spec.hand,
         grasp=HumanGrasp.parse(spec.grasp),
         arm=spec.arm,
+        mount=spec.mount,
+        object=spec.object,
         object_error=spec.object_error,
         seed=spec.seed,
         out_root=spec.runs_dir,
@@ -74,6 +81,8 @@ def run_trial(spec: TrialSpec) -> dict:
         status="ok",
         result_path=result["result_path"],
         success=outcome["success"],
+        held_after_lift=outcome["held_after_lift"],
+        held_under_disturbance=outcome["held_under_disturbance"],
         failure_reason=outcome["failure_reason"],
         touching_fingers=outcome["touching_fingers"],
         corrections=outcome["corrections"],
