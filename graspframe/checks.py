@@ -1,7 +1,11 @@
 """`graspframe check-hand NAME`: run the hand contract checks on a registered hand.
 
 Prints, in plain words, either "hand NAME: all checks passed" with a short summary of the
-hand, or a numbered list of the problems found by `graspframe.testing.hand_problems`.
+hand, or a numbered list of the problems found: the description checks
+(`graspframe.testing.hand_problems`), closing in free space
+(`graspframe.testing.grasp_checks.closing_problems`) and, unless asked not to, the hand
+alone holding its preshapes' design objects in the registered physics backend
+(`hold_problems`; the human reference hand is checked by its own reference procedure).
 """
 
 from __future__ import annotations
@@ -9,9 +13,12 @@ from __future__ import annotations
 import typer
 
 from graspframe import registry as registry_module
+from graspframe.grasps import HUMAN_HAND
 from graspframe.hal.descriptions import HandDescription, JointSpec
+from graspframe.hal.drivers import Backend
 from graspframe.registry import Registry
 from graspframe.testing import hand_problems
+from graspframe.testing.grasp_checks import closing_problems, hold_problems
 
 
 def _limits(joint: JointSpec) -> str:
@@ -32,9 +39,16 @@ def hand_summary(hand: HandDescription) -> list[str]:
     ]
 
 
-def check_hand_report(hand: HandDescription) -> tuple[bool, list[str]]:
-    """(passed, lines to print) for one hand description."""
+def check_hand_report(
+    hand: HandDescription, backend: Backend | None = None
+) -> tuple[bool, list[str]]:
+    """(passed, lines to print) for one hand description; with a backend, the hand
+    alone must also hold its design objects in it."""
     problems = hand_problems(hand)
+    if not problems:  # the grasp checks need a description that loads
+        problems += closing_problems(hand)
+    if not problems and backend is not None and hand.name != HUMAN_HAND:
+        problems += hold_problems(hand, backend)
     if not problems:
         summary = [f"  {line}" for line in hand_summary(hand)]
         return True, [f"hand {hand.name}: all checks passed", *summary]
@@ -43,15 +57,19 @@ def check_hand_report(hand: HandDescription) -> tuple[bool, list[str]]:
     return False, [f"hand {hand.name}: {count} found", *listing]
 
 
-def check_hand_command(name: str, registry: Registry | None = None) -> int:
+def check_hand_command(
+    name: str, registry: Registry | None = None, hold: bool = True, backend: str = "sapien"
+) -> int:
     """Check the registered hand `name`; print the result; 0 if it passed, else 1.
 
     registry: where to look the hand up (default: every installed plugin). An unknown
     name raises the registry's UnknownNameError, which lists the known hands.
+    hold: also check that the hand alone holds its design objects, in `backend`.
     """
     registry = registry or registry_module.default_registry()
     hand = registry.get_hand(name)
-    passed, lines = check_hand_report(hand)
+    physics = registry.get_backend(backend)() if hold else None
+    passed, lines = check_hand_report(hand, physics)
     for line in lines:
         typer.echo(line)
     return 0 if passed else 1

@@ -375,11 +375,20 @@ def review(
 @app.command("check-hand")
 def check_hand(
     name: Annotated[str, typer.Argument(help="A registered hand plugin name.")],
+    hold: Annotated[
+        bool,
+        typer.Option(
+            "--hold/--no-hold",
+            help="Also check that the hand alone holds its design objects (physics, ~5 s "
+            "per preshape).",
+        ),
+    ] = True,
+    backend: Annotated[str, typer.Option(help="Physics backend of the hold check.")] = "sapien",
 ) -> None:
     """Check a hand plugin against the contract and say, in plain words, what is wrong."""
     from graspframe.checks import check_hand_command
 
-    raise typer.Exit(check_hand_command(name))
+    raise typer.Exit(check_hand_command(name, hold=hold, backend=backend))
 
 
 @db_app.command("build")

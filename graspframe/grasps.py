@@ -84,3 +84,6 @@ class Preshape(StrEnum):
 # the palm is always called PALM so the volar strategy and the metric can find it.
 PALM = "palm"
 THUMB = "thumb"
+# The registered name of the human reference hand (its grasps are the references the
+# robots are scored against).
+HUMAN_HAND = "human"

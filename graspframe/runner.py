@@ -18,7 +18,7 @@ import numpy as np
 
 from graspframe.errors import GraspframeError, InputError
 from graspframe.events import RunEvent, RunInfo
-from graspframe.grasps import HumanGrasp
+from graspframe.grasps import HUMAN_HAND, HumanGrasp
 from graspframe.hal.drivers import WorldConfig
 from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_contacts
 from graspframe.motion.arm_motion import ArmMotion
@@ -40,7 +40,6 @@ log = logging.getLogger(__name__)
 
 SCENE_OBJECT_XY = (0.55, 0.20)  # [m]
 TABLE_HEIGHT = 0.0  # [m]
-HUMAN_HAND = "human"
 MOUNT_ARM, MOUNT_FLOATING = "arm", "floating"
 MOUNTS = (MOUNT_ARM, MOUNT_FLOATING)
 MAX_OBJECT_ERROR = 0.5  # [m] larger injected errors are surely a unit mistake

@@ -80,7 +80,7 @@ EXPECTED_DEFECTS = {
 def test_a_broken_hand_has_every_defect_named(tmp_path, capsys):
     registry = _registry_with(_broken_hand(tmp_path))
 
-    assert check_hand_command("broken_hand", registry=registry) == 1
+    assert check_hand_command("broken_hand", registry=registry, hold=False) == 1
 
     out = capsys.readouterr().out
     assert out.startswith("hand broken_hand: ")
@@ -105,7 +105,7 @@ def test_the_palm_direction_is_checked_even_when_joints_are_wrong(tmp_path):
 
 
 def test_a_good_hand_passes_with_a_summary(fake_hand, capsys):
-    assert check_hand_command("fake_hand", registry=_registry_with(fake_hand)) == 0
+    assert check_hand_command("fake_hand", registry=_registry_with(fake_hand), hold=False) == 0
 
     out = capsys.readouterr().out
     assert out.splitlines()[0] == "hand fake_hand: all checks passed"
@@ -122,7 +122,7 @@ def test_the_default_registry_is_used_when_none_is_given(fake_hand, monkeypatch,
     registry = _registry_with(fake_hand)
     monkeypatch.setattr(registry_module, "default_registry", lambda: registry)
 
-    assert check_hand_command("fake_hand") == 0
+    assert check_hand_command("fake_hand", hold=False) == 0
     assert "hand fake_hand: all checks passed" in capsys.readouterr().out
 
 

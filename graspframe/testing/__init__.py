@@ -18,6 +18,7 @@ from graspframe.testing.contracts import (
     hand_problems,
     palm_direction_problems,
 )
+from graspframe.testing.grasp_checks import closing_problems, hand_alone_grasp, hold_problems
 
 
 def _assert_none(what: str, problems: list[str]) -> None:
@@ -28,6 +29,17 @@ def _assert_none(what: str, problems: list[str]) -> None:
 
 def assert_hand_contract(hand) -> None:
     _assert_none(f"hand {hand.name!r}", hand_problems(hand))
+
+
+def assert_hand_closes(hand) -> None:
+    """Closing each preshape in free space brings its opposing fingers together."""
+    _assert_none(f"hand {hand.name!r}", closing_problems(hand))
+
+
+def assert_hand_holds_design_objects(hand, backend) -> None:
+    """The hand alone (floating base, no arm) holds each preshape's design object in
+    `backend` (an instance, e.g. SapienBackend())."""
+    _assert_none(f"hand {hand.name!r}", hold_problems(hand, backend))
 
 
 def assert_arm_contract(arm) -> None:
@@ -48,10 +60,15 @@ __all__ = [
     "assert_arm_contract",
     "assert_backend_contract",
     "assert_classifier_contract",
+    "assert_hand_closes",
     "assert_hand_contract",
+    "assert_hand_holds_design_objects",
     "backend_problems",
     "classifier_problems",
+    "closing_problems",
     "estimate_problems",
+    "hand_alone_grasp",
     "hand_problems",
+    "hold_problems",
     "palm_direction_problems",
 ]

@@ -7,12 +7,15 @@ from __future__ import annotations
 
 import pytest
 
+from graspframe.grasps import HUMAN_HAND
 from graspframe.registry import default_registry
 from graspframe.testing import (
     assert_arm_contract,
     assert_backend_contract,
     assert_classifier_contract,
+    assert_hand_closes,
     assert_hand_contract,
+    assert_hand_holds_design_objects,
 )
 
 
@@ -28,6 +31,21 @@ def test_no_plugin_failed_to_load():
 @pytest.mark.parametrize("hand_name", _names("hand"))
 def test_hand_contract(hand_name):
     assert_hand_contract(default_registry().get_hand(hand_name))
+
+
+@pytest.mark.parametrize("hand_name", _names("hand"))
+def test_hand_closes_its_preshapes(hand_name):
+    assert_hand_closes(default_registry().get_hand(hand_name))
+
+
+# The human reference hand is checked by its own reference procedure.
+@pytest.mark.parametrize("hand_name", [h for h in _names("hand") if h != HUMAN_HAND])
+def test_hand_alone_holds_its_design_objects(hand_name):
+    registry = default_registry()
+    backend = _first("backend", "sapien")
+    if backend is None:
+        pytest.skip("the hold check needs a registered physics backend")
+    assert_hand_holds_design_objects(registry.get_hand(hand_name), registry.get_backend(backend)())
 
 
 @pytest.mark.parametrize("arm_name", _names("arm"))
