@@ -315,6 +315,7 @@ def _execute(request, inputs, registry, recorder, result, progress):
             "world.built",
             hand=hand.name,
             arm=checked.robot.arm.name,
+            arm_joint_names=checked.robot.arm.joint_names,
             object=obj.name,
             model_path=str(checked.robot.urdf_path),
             T_world_arm_base=config.T_world_arm_base,

@@ -32,6 +32,9 @@ def test_no_arguments_shows_help(capsys):
         (["check-hand", "allegro"], "unknown hand 'allegro'; known hands: barrett"),
         (["evaluate", "--hands", "allegro"], "unknown hand 'allegro'"),
         (["evaluate", "--executor", "slurm"], "unknown executor 'slurm'; executors: local, dask"),
+        (["evaluate", "--mount", "wall"], "unknown mount 'wall'; known mounts: arm, floating"),
+        (["evaluate", "--sizes", "big"], "--sizes must be whole percentages"),
+        (["evaluate", "--sizes", "100"], "sizes are percentages in 1..999 other than 100"),
     ],
 )
 def test_bad_arguments_give_one_line_and_exit_1(command, message, capsys):

@@ -49,6 +49,25 @@ def test_full_sweep_plan_has_2_hands_6_grasps_7_conditions(tmp_path):
     assert len({s.trial_id for s in specs}) == len(specs)
 
 
+def test_both_mounts_and_two_sizes_add_their_trials(tmp_path):
+    config = SweepConfig(
+        ("barrett",), ("large_diameter",), tmp_path, mounts=("arm", "floating"), sizes=(75, 125)
+    )
+    specs = plan_trials(config)
+    assert len(specs) == 2 * (7 + 2)
+    sized = {s.trial_id: s.object for s in specs if s.object}
+    assert sized == {
+        "arm/barrett/large_diameter/A075": "large_cylinder_075",
+        "arm/barrett/large_diameter/A125": "large_cylinder_125",
+        "floating/barrett/large_diameter/A075": "large_cylinder_075",
+        "floating/barrett/large_diameter/A125": "large_cylinder_125",
+    }
+    from graspframe.registry import default_registry
+
+    for name in sized.values():  # every sized object is in the catalogue
+        default_registry().get_object(name)
+
+
 def _reduced(out: Path, executor: str) -> SweepConfig:
     return SweepConfig(("barrett",), GRASPS, out, directions=1, executor=executor)
 
@@ -92,7 +111,7 @@ def test_a_killed_sweep_resumes_without_losing_or_repeating_a_trial(tmp_path, ca
     first = load_finished(trials)
     assert 1 <= len(first) < 4, "the sweep should have been killed part-way"
     with trials.open("a") as stream:  # a line cut short by the kill
-        stream.write('{"trial_id": "barrett/precision_disc/B0", "sta')
+        stream.write('{"trial_id": "arm/barrett/precision_disc/B0", "sta')
 
     subprocess.run(command, check=True, capture_output=True)
     lines = [json.loads(line) for line in trials.read_text().splitlines() if line.endswith("}")]
@@ -109,16 +128,16 @@ def test_a_trial_over_its_time_limit_is_recorded_as_failed(tmp_path):
     row = run_trial_isolated(spec, time_limit=0.5)
     assert row["status"] == "failed"
     assert row["error"] == "timed out after 0 s" or row["error"].startswith("timed out")
-    assert row["trial_id"] == "barrett/pinch/A"
+    assert row["trial_id"] == "arm/barrett/pinch/A"
 
 
 def test_a_trial_that_raises_is_recorded_as_failed_and_the_sweep_goes_on(tmp_path, cache_env):
     config = SweepConfig(("barrett", "nohand"), ("pinch",), tmp_path, directions=0, workers=1)
     rows = run_sweep(config)
     by_id = {r["trial_id"]: r for r in rows}
-    assert by_id["nohand/pinch/A"]["status"] == "failed"
-    assert "unknown hand 'nohand'" in by_id["nohand/pinch/A"]["error"]
-    assert by_id["barrett/pinch/A"]["status"] == "ok"
+    assert by_id["arm/nohand/pinch/A"]["status"] == "failed"
+    assert "unknown hand 'nohand'" in by_id["arm/nohand/pinch/A"]["error"]
+    assert by_id["arm/barrett/pinch/A"]["status"] == "ok"
 
 
 def test_summary_puts_a_beside_the_mean_of_b():
@@ -132,7 +151,28 @@ def test_summary_puts_a_beside_the_mean_of_b():
         {"hand": "h", "grasp": "g", "condition": "B2", "status": "failed", "error": "x"},
     ]  # fmt: skip
     (row,) = summarize(rows)
+    assert row["mount"] == "arm"
     assert row["A_position_err_mm"] == 10.0
     assert row["B_position_err_mm"] == pytest.approx(30.0)
     assert row["B_orientation_err_deg"] == pytest.approx(20.0)
     assert (row["B_successes"], row["B_trials"], row["failures"]) == (1, 3, 2)
+
+
+def test_summary_reports_held_after_lift_and_under_disturbance_apart(tmp_path):
+    def trial(condition, success, after_lift):
+        return {
+            "mount": "floating", "hand": "h", "grasp": "g", "condition": condition,
+            "status": "ok", "success": success, "held_after_lift": after_lift,
+            "held_under_disturbance": success if after_lift else None,
+        }  # fmt: skip
+
+    rows = [trial("A", False, True), trial("B0", True, True), trial("B1", False, True)]
+    rows += [trial("B2", False, False), trial("A075", True, True), trial("A125", False, False)]
+    (row,) = summarize(rows)
+    assert (row["A_success"], row["A_held_after_lift"]) == (False, True)
+    assert (row["B_successes"], row["B_held_after_lift"], row["B_trials"]) == (1, 2, 3)
+    assert (row["A075_success"], row["A125_success"]) == (True, False)
+    _, md_path = write_tables([row], tmp_path)
+    line = next(x for x in md_path.read_text().splitlines() if x.startswith("| floating"))
+    assert line.startswith("| floating | h | g | lift only |")
+    assert "| 1/3 (2) |" in line and line.endswith("| yes | no | 4 |")

@@ -65,7 +65,10 @@ def test_the_demo_runs_and_is_recorded(hand, tmp_path):
     assert result["classification"]["grasp"] == "large_diameter"
     assert result["recording"] == str(run_dir / "recording.rrd")
     # No --grasp and no --image: the command itself repeats the demo.
-    assert result["reproduce"] == f"graspframe run --hand {hand} --arm kuka --seed 0"
+    assert result["reproduce"] == f"graspframe run --hand {hand} --arm kuka --mount arm --seed 0"
+    # The main job holds the can, and shows it.
+    assert result["outcome"]["success"], result["outcome"]["failure_reason"]
+    assert (run_dir / "snapshots.png").stat().st_size > 10_000
 
     rows = rrd_rows(run_dir / "recording.rrd")
     for expected in EXPECTED_ENTITIES:
@@ -90,7 +93,7 @@ def test_no_record_writes_no_recording(tmp_path):
 
 
 def test_a_run_that_raises_midway_leaves_a_readable_recording(tmp_path, monkeypatch):
-    def broken(plan, world, motion, hand, params=None, emit=None):
+    def broken(plan, world, motion, hand, obj, params=None, emit=None):
         motion.move_palm_to(plan.T_world_palm_via)  # some motion gets recorded
         raise RuntimeError("hand controller lost")
 

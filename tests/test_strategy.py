@@ -1,7 +1,9 @@
-"""The grasp strategy: mapping tables, approach selection, planning, execution, runs."""
+"""The grasp strategy: mapping tables, approach selection, robot-aware goals, whole-hand
+table clearance, collision-checked arm paths, execution and runs that hold."""
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 from pathlib import Path
@@ -12,15 +14,24 @@ import pytest
 from graspframe.cli import main
 from graspframe.grasps import HumanGrasp
 from graspframe.registry import default_registry
-from graspframe.runner import RunRequest, run_grasp
-from graspframe.strategy.planner import PlannerParams, approach_direction, plan_grasp
+from graspframe.runner import SCENE_OBJECT_XY, RunRequest, run_grasp
+from graspframe.strategy.arm_path import choose_plan, path_problem
+from graspframe.strategy.hand_geometry import closing_configurations, lowest_hand_point
+from graspframe.strategy.planner import (
+    TABLE_CLEARANCE,
+    PlannerParams,
+    PlanningError,
+    approach_direction,
+    plan_grasp,
+)
 from graspframe.strategy.reference_poses import R_OBJECT_PALM_TOP, reference_placement
-from graspframe.transforms import R_from_rpy, make_T
+from graspframe.transforms import R_from_rpy, inv_T, make_T, rotation_angle
 
 REGISTRY = default_registry()
 G = HumanGrasp
+ROBOT_HANDS = ("barrett", "karlsruhe")
 
-# METHOD.md section 1, verbatim.
+# The method's mapping table, verbatim.
 MAPPING = {
     "barrett": {
         G.LARGE_DIAMETER: "wrap",
@@ -57,21 +68,23 @@ def _R_palm(z_palm, y_palm):
     [
         ("upright, palm facing +x", _R_palm([1, 0, 0], [0, 0, -1]), "side"),
         ("upright, palm facing -y, thumb down", _R_palm([0, -1, 0], [0, 0, 1]), "side"),
+        # The choice follows the palm normal only: an abducted thumb (palm y tilted) with
+        # a horizontal palm normal is a side grasp.
+        ("palm sideways, hand lying flat", _R_palm([1, 0, 0], [0, 1, 0]), "side"),
         ("palm down", _R_palm([0, 0, -1], [0, -1, 0]), "top"),
-        ("palm sideways but hand lying flat", _R_palm([1, 0, 0], [0, 1, 0]), "top"),
         (
-            "upright, palm tilted 20 deg down",
+            "palm tilted 20 deg down",
             R_from_rpy(0, math.radians(20), 0) @ _R_palm([1, 0, 0], [0, 0, -1]),
             "side",
         ),
         (
-            "upright, palm tilted 40 deg down",
+            "palm tilted 40 deg down",
             R_from_rpy(0, math.radians(40), 0) @ _R_palm([1, 0, 0], [0, 0, -1]),
             "top",
         ),
     ],
 )
-def test_approach_selection(label, R_world_palm, expected):
+def test_approach_selection_follows_the_palm_normal(label, R_world_palm, expected):
     approach, a = approach_direction(R_world_palm, PlannerParams())
     assert approach == expected, label
     if expected == "top":
@@ -81,23 +94,40 @@ def test_approach_selection(label, R_world_palm, expected):
         assert a @ R_world_palm[:, 2] > 0.9
 
 
-def test_threshold_is_a_parameter():
-    R_tilted = R_from_rpy(0, math.radians(40), 0) @ _R_palm([1, 0, 0], [0, 0, -1])
-    assert approach_direction(R_tilted, PlannerParams(side_approach_max_tilt_deg=45))[0] == "side"
+def test_a_palm_facing_up_is_refused():
+    R_up = R_from_rpy(0, math.radians(-50), 0) @ _R_palm([1, 0, 0], [0, 0, -1])
+    with pytest.raises(PlanningError, match="palm faces up"):
+        approach_direction(R_up, PlannerParams())
+
+
+def _reference_plan(hand_name: str, grasp: HumanGrasp, **kwargs):
+    hand, obj = REGISTRY.get_hand(hand_name), REGISTRY.default_object_for(grasp)
+    T_world_object = make_T(p=[*SCENE_OBJECT_XY, obj.half_height])
+    placement = reference_placement(obj, REGISTRY.get_hand("human").preshape_for(grasp))
+    plan = plan_grasp(grasp, placement.T_object_palm, T_world_object, hand, obj, **kwargs)
+    return hand, obj, placement, plan
 
 
 @pytest.mark.parametrize("grasp", list(HumanGrasp))
-@pytest.mark.parametrize("hand_name", ["barrett", "karlsruhe"])
-def test_plans_are_volar_only_for_the_diameter_grasps(hand_name, grasp):
-    hand, obj = REGISTRY.get_hand(hand_name), REGISTRY.default_object_for(grasp)
-    T_world_object = make_T(p=[0.55, 0.2, obj.half_height])
-    placement = reference_placement(obj, REGISTRY.get_hand("human").preshape_for(grasp))
-    plan = plan_grasp(
-        grasp, placement.T_object_palm, T_world_object, hand, p_hand_grasp=placement.p_palm_grasp
-    )
+@pytest.mark.parametrize("hand_name", ROBOT_HANDS)
+def test_the_object_goes_where_the_robot_hand_holds_it(hand_name, grasp):
+    hand, obj, placement, plan = _reference_plan(hand_name, grasp)
+    preshape = hand.preshape(plan.preshape)
     assert plan.volar == (grasp in (G.LARGE_DIAMETER, G.SMALL_DIAMETER))
     assert plan.preshape == MAPPING[hand_name][grasp]
-    assert np.linalg.norm(plan.a_world) == pytest.approx(1.0)
+    # Orientation: the human palm's, turned by the preshape's roll about the normal.
+    roll = rotation_angle(placement.T_object_palm[:3, :3], plan.T_object_palm[:3, :3])
+    assert roll == pytest.approx(abs(preshape.roll), abs=1e-9)
+    # Position: the object's centroid at the hand's own grasp centre (x, y) ...
+    p_palm_object = inv_T(plan.T_object_palm)[:3, 3]
+    if plan.table_raise == 0.0:
+        np.testing.assert_allclose(p_palm_object[:2], preshape.grasp_center_palm[:2], atol=1e-9)
+    # ... resting on the palm in a volar grasp.
+    extent = obj.extent_along(plan.T_object_palm[:3, 2])
+    if plan.volar:
+        assert p_palm_object[2] == pytest.approx(extent, abs=1e-9)
+    else:
+        assert p_palm_object[2] >= extent
     # The pre-approach pose lies back along the approach, orientation unchanged.
     offset = plan.T_world_palm_goal[:3, 3] - plan.T_world_palm_pre[:3, 3]
     np.testing.assert_allclose(offset / np.linalg.norm(offset), plan.a_world, atol=1e-9)
@@ -105,77 +135,155 @@ def test_plans_are_volar_only_for_the_diameter_grasps(hand_name, grasp):
     json.dumps(plan.to_dict())  # plain and serialisable
 
 
-def test_top_goals_keep_the_closing_fingers_off_the_table():
-    from graspframe.strategy.hand_geometry import closing_sweep_depth
+@pytest.mark.parametrize("grasp", list(HumanGrasp))
+@pytest.mark.parametrize("hand_name", ROBOT_HANDS)
+def test_the_whole_hand_clears_the_table_at_the_goal(hand_name, grasp):
+    hand, obj, _, plan = _reference_plan(hand_name, grasp)
+    preshape = hand.preshape(plan.preshape)
+    configurations = closing_configurations(hand, preshape, obj, inv_T(plan.T_object_palm))
+    lowest = lowest_hand_point(hand, configurations, plan.T_world_palm_goal[:3, :3])
+    assert plan.T_world_palm_goal[2, 3] + lowest >= TABLE_CLEARANCE - 1e-9
+    assert plan.min_goal_height == pytest.approx(TABLE_CLEARANCE - lowest, abs=1e-9)
 
+
+def test_a_goal_that_would_put_the_hand_into_the_table_is_raised():
     hand, obj = REGISTRY.get_hand("barrett"), REGISTRY.get_object("ball")
     T_world_object = make_T(p=[0.55, 0.2, obj.half_height])
-    # A human grasp point 20 cm below the palm would put the fingers through the table.
-    T_object_palm = make_T(R_OBJECT_PALM_TOP, [0.0, 0.0, obj.half_height])
-    plan = plan_grasp(
-        G.POWER_SPHERE, T_object_palm, T_world_object, hand, p_hand_grasp=[0.0, 0.0, 0.2]
-    )
-    lowest_finger = plan.T_world_palm_goal[2, 3] - closing_sweep_depth(hand, plan.preshape)
-    assert lowest_finger == pytest.approx(0.01, abs=1e-9)  # TABLE_CLEARANCE above z = 0
+    # A palm facing down 1 cm above the table's ball centre height: far too low.
+    T_object_palm = make_T(R_OBJECT_PALM_TOP, [0.0, 0.0, -0.035])
+    plan = plan_grasp(G.POWER_SPHERE, T_object_palm, T_world_object, hand, obj)
     assert plan.table_raise > 0
+    assert plan.T_world_palm_goal[2, 3] == pytest.approx(plan.min_goal_height)
 
 
-def _run(tmp_path, **fields) -> dict:
-    request = RunRequest(out_root=str(tmp_path), **fields)
-    return run_grasp(request, REGISTRY)
+def test_the_chosen_arm_path_is_collision_free_and_refusals_say_why():
+    hand, arm = REGISTRY.get_hand("barrett"), REGISTRY.get_arm("kuka")
+    obj = REGISTRY.get_object("large_cylinder")
+    placement = reference_placement(obj, REGISTRY.get_hand("human").preshape_for(G.LARGE_DIAMETER))
+    T_world_object = make_T(p=[*SCENE_OBJECT_XY, obj.half_height])
+    checked = choose_plan(
+        G.LARGE_DIAMETER, placement.T_object_palm, T_world_object, hand, arm, obj, 0.0, np.eye(4)
+    )
+    assert path_problem(checked.plan, checked.robot, checked.T_world_base, hand, obj, 0.0) is None
+    for reason in checked.refused:  # each refused variant names the part of the path
+        assert any(part in reason for part in ("transfer", "descent", "approach", "unreachable"))
 
 
-def test_volar_grasp_with_object_error_corrects_towards_the_true_object(tmp_path):
+def test_a_plan_without_a_collision_free_path_is_refused():
+    hand, arm = REGISTRY.get_hand("barrett"), REGISTRY.get_arm("kuka")
+    obj = REGISTRY.get_object("large_cylinder")
+    placement = reference_placement(obj, REGISTRY.get_hand("human").preshape_for(G.LARGE_DIAMETER))
+    # The can right beside the arm's foot: every variant puts the arm through the table
+    # or the can, or out of reach.
+    T_world_object = make_T(p=[0.12, 0.0, obj.half_height])
+    with pytest.raises(PlanningError, match="no collision-free path"):
+        choose_plan(
+            G.LARGE_DIAMETER,
+            placement.T_object_palm,
+            T_world_object,
+            hand,
+            arm,
+            obj,
+            0.0,
+            np.eye(4),
+        )
+
+
+@functools.cache
+def _run(out_root: str, **fields) -> dict:
+    """One run per distinct request (shared by the tests of this module)."""
+    return run_grasp(RunRequest(out_root=out_root, record=False, **fields), REGISTRY)
+
+
+@pytest.fixture(scope="module")
+def runs_dir(tmp_path_factory) -> str:
+    return str(tmp_path_factory.mktemp("runs"))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("mount", ["arm", "floating"])
+@pytest.mark.parametrize("grasp", list(HumanGrasp))
+@pytest.mark.parametrize("hand_name", ROBOT_HANDS)
+def test_every_grasp_holds_under_perfect_perception(hand_name, grasp, mount, runs_dir):
+    result = _run(runs_dir, hand=hand_name, grasp=grasp, mount=mount)
+    outcome = result["outcome"]
+    assert result["status"] == "ok"
+    assert outcome["held_after_lift"], outcome["failure_reason"]
+    assert outcome["held_under_disturbance"], outcome["failure_reason"]
+    assert len(outcome["touching_fingers"]) >= 2
+    assert set(outcome["disturbance"]) == {"+x", "-x", "+y", "-y", "+z", "-z"}
+    assert Path(result["snapshots"]).stat().st_size > 10_000
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("size", ["075", "125"])
+@pytest.mark.parametrize("grasp", list(HumanGrasp))
+@pytest.mark.parametrize("hand_name", ROBOT_HANDS)
+def test_every_grasp_holds_a_smaller_and_a_larger_object(hand_name, grasp, size, runs_dir):
+    obj = f"{REGISTRY.default_object_for(grasp).name}_{size}"
+    result = _run(runs_dir, hand=hand_name, grasp=grasp, object=obj)
+    assert result["outcome"]["success"], result["outcome"]["failure_reason"]
+
+
+def test_volar_grasp_with_object_error_corrects_towards_the_true_object(runs_dir):
     """The robot believes the can 5 cm off to +y: the first touch is a finger, the goal
-    moves towards that contact (towards the true can) and the palm touches in the end."""
-    result = _run(tmp_path, hand="barrett", grasp=G.LARGE_DIAMETER, object_error=(0.0, 0.05))
+    moves towards that contact (towards the true can), never below the lowest goal that
+    keeps the hand off the table, and the palm touches in the end."""
+    result = _run(runs_dir, hand="barrett", grasp=G.LARGE_DIAMETER, object_error=(0.0, 0.05))
     events = result["events"]
     corrections = [e for e in events if e["kind"] == "execute.correction"]
     assert corrections, [e["kind"] for e in events]
-    true_y = 0.2
+    true_y = SCENE_OBJECT_XY[1]
     for c in corrections:
         assert abs(c["goal_after"][1] - true_y) < abs(c["goal_before"][1] - true_y)
+        assert c["goal_after"][2] >= result["plan"]["min_goal_height"] - 1e-9
     first_contacts = [e for e in events if e["kind"] == "execute.first_contact"]
     assert not first_contacts[0]["on_palm"] and first_contacts[-1]["on_palm"]
     assert result["outcome"]["palm_contact"]
 
 
-def test_non_volar_grasp_runs_without_corrections(tmp_path):
-    result = _run(tmp_path, hand="barrett", grasp=G.POWER_SPHERE, object_error=(0.05, 0.0))
+def test_non_volar_grasp_runs_without_corrections(runs_dir):
+    result = _run(runs_dir, hand="barrett", grasp=G.POWER_SPHERE, object_error=(0.05, 0.0))
     kinds = [e["kind"] for e in result["events"]]
     assert "execute.correction" not in kinds and "execute.first_contact" not in kinds
     assert result["outcome"]["corrections"] == 0
 
 
-# Measured with perfect perception (see the closing notes / docs/method.md): a floor per
-# hand, so a regression in any layer shows.
-MIN_SUCCESSES = {"barrett": 3, "karlsruhe": 0}
-
-
-@pytest.mark.parametrize("hand_name", sorted(MIN_SUCCESSES))
-def test_every_grasp_runs_and_failures_say_why(hand_name, tmp_path):
-    successes = []
-    for grasp in HumanGrasp:
-        result = _run(tmp_path, hand=hand_name, grasp=grasp)
-        outcome = result["outcome"]
-        assert result["status"] == "ok"
-        if outcome["success"]:
-            assert len(outcome["touching_fingers"]) >= 2 and outcome["held_after_lift"]
-            successes.append(grasp.value)
-        else:
-            assert outcome["failure_reason"], grasp
-    assert len(successes) >= MIN_SUCCESSES[hand_name], successes
-
-
 def test_result_json_holds_everything_to_reproduce_the_run(tmp_path):
-    result = _run(tmp_path, hand="barrett", grasp=G.PRECISION_DISC, seed=5)
+    result = run_grasp(
+        RunRequest(
+            hand="barrett", grasp=G.PRECISION_DISC, seed=5, out_root=str(tmp_path), record=False
+        ),
+        REGISTRY,
+    )
     saved = json.loads(Path(result["result_path"]).read_text())
     assert saved["status"] == "ok"
     assert saved["seed"] == 5
-    assert saved["reproduce"].startswith("graspframe run --hand barrett --grasp precision_disc")
+    assert saved["reproduce"].startswith(
+        "graspframe run --hand barrett --grasp precision_disc --arm kuka --mount arm"
+    )
     assert {"graspframe", "sapien", "pin", "placo", "ruckig"} <= set(saved["versions"])
-    assert {"plan", "outcome", "events", "score", "request"} <= set(saved)
+    assert {"plan", "outcome", "events", "score", "request", "snapshots"} <= set(saved)
     assert saved["outcome"]["contacts_object"]
+    assert {"held_after_lift", "held_under_disturbance", "disturbance"} <= set(saved["outcome"])
+    assert (Path(result["result_path"]).parent / "snapshots.png").is_file()
+
+
+def test_a_backend_that_cannot_push_reports_the_disturbance_test_as_not_run(tmp_path, monkeypatch):
+    from graspframe_sapien.drivers import SapienObjectProbe
+
+    def cannot_push(self, f_world):
+        raise NotImplementedError("this probe cannot push the object")
+
+    monkeypatch.setattr(SapienObjectProbe, "apply_force", cannot_push)
+    result = run_grasp(
+        RunRequest(hand="barrett", grasp=G.POWER_SPHERE, out_root=str(tmp_path), record=False),
+        REGISTRY,
+    )
+    outcome = result["outcome"]
+    assert outcome["held_after_lift"] and outcome["held_under_disturbance"] is None
+    assert "cannot push" in outcome["disturbance_skipped"]
+    assert outcome["success"]  # a lift that held is a grasp when nothing could push
 
 
 def test_human_reference_grasps_touch_the_expected_fingers():
@@ -200,9 +308,12 @@ def test_human_reference_grasps_touch_the_expected_fingers():
 
 
 def test_measured_human_contacts_file_replaces_the_simulation(tmp_path):
+    from graspframe.errors import InputError
     from graspframe.strategy.human_reference import load_reference_file
 
     path = tmp_path / "pinch.json"
+    contact = {"real_finger": "thumb", "p": [0.0125, 0, 0.01], "n": [1, 0, 0], "f": [-2, 0, 0]}
+    opposite = {"real_finger": "index", "p": [-0.0125, 0, 0.01], "n": [-1, 0, 0], "f": [2, 0, 0]}
     path.write_text(
         json.dumps(
             {
@@ -210,31 +321,25 @@ def test_measured_human_contacts_file_replaces_the_simulation(tmp_path):
                 "grasp": "pinch",
                 "object": "pinch_block",
                 "frame": "object",
-                "contacts": [
-                    {
-                        "real_finger": "thumb",
-                        "p": [0.0125, 0, 0.01],
-                        "n": [1, 0, 0],
-                        "f": [-2, 0, 0],
-                    },
-                    {
-                        "real_finger": "index",
-                        "p": [-0.0125, 0, 0.01],
-                        "n": [-1, 0, 0],
-                        "f": [2, 0, 0],
-                    },
-                ],
+                "contacts": [contact, opposite],
             }
         )
     )
     reference = load_reference_file(path)
     assert reference.touching_fingers == ["index", "thumb"]
-    result = _run(tmp_path, hand="barrett", grasp=G.PINCH, human_contacts=str(path))
+    result = run_grasp(
+        RunRequest(
+            hand="barrett",
+            grasp=G.PINCH,
+            human_contacts=str(path),
+            out_root=str(tmp_path),
+            record=False,
+        ),
+        REGISTRY,
+    )
     assert result["score"]["human_source"] == str(path)
     bad = tmp_path / "bad.json"
     bad.write_text('{"format": "graspframe.human_contacts/1", "frame": "world"}')
-    from graspframe.errors import InputError
-
     with pytest.raises(InputError, match="frame"):
         load_reference_file(bad)
 
@@ -247,7 +352,10 @@ def test_a_run_that_fails_midway_leaves_a_failed_result(tmp_path, monkeypatch):
 
     monkeypatch.setattr(runner, "execute_plan", broken)
     with pytest.raises(RuntimeError):
-        _run(tmp_path, hand="barrett", grasp=G.PINCH)
+        run_grasp(
+            RunRequest(hand="barrett", grasp=G.PINCH, out_root=str(tmp_path), record=False),
+            REGISTRY,
+        )
     (result_file,) = tmp_path.glob("*/result.json")
     saved = json.loads(result_file.read_text())
     assert saved["status"] == "failed"
@@ -262,10 +370,11 @@ def test_a_run_that_fails_midway_leaves_a_failed_result(tmp_path, monkeypatch):
         (["--hand", "barrett", "--grasp", "tripod"], "known grasps: abducted_thumb"),
         (["--hand", "barrett", "--grasp", "pinch", "--object", "mug"], "known objects: ball"),
         (["--hand", "barrett", "--grasp", "pinch", "--object-error-mm", "5"], "DX,DY"),
+        (["--hand", "barrett", "--grasp", "pinch", "--mount", "wall"], "mounts: arm, floating"),
     ],
 )
 def test_run_with_a_bad_name_exits_non_zero_listing_valid_names(args, listed, capsys, tmp_path):
     assert main(["run", *args, "--out", str(tmp_path)]) == 1
     err = capsys.readouterr().err
-    assert listed in err
+    assert listed in " ".join(err.split())
     assert not list(tmp_path.iterdir())  # nothing ran, no run folder

@@ -84,7 +84,7 @@ class RunRecording:
         self.stream.save(str(self.path))
         self._model: CollisionModel | None = None
         self._hand = None
-        self._arm = None
+        self._arm_joint_names: tuple[str, ...] = ()
         self._palm_path: list[np.ndarray] = []
         self._shape_entities: list[str] = []
 
@@ -113,7 +113,7 @@ class RunRecording:
     def _on_world_built(self, data: dict) -> None:
         registry = default_registry()
         self._hand = registry.get_hand(data["hand"])
-        self._arm = registry.get_arm(data["arm"])
+        self._arm_joint_names = tuple(data["arm_joint_names"])
         obj = registry.get_object(data["object"])
         T_world_object = np.asarray(data["T_world_object"])
         table_centre = [*T_world_object[:2, 3], data["table_height"] - TABLE_HALF_SIZE[2]]
@@ -178,7 +178,8 @@ class RunRecording:
     def _on_motion_cycle(self, data: dict) -> None:
         if self._model is None:
             return
-        q = dict(zip(self._arm.joint_names, np.asarray(data["q_arm"], dtype=float), strict=True))
+        q_arm = np.asarray(data["q_arm"], dtype=float)
+        q = dict(zip(self._arm_joint_names, q_arm, strict=True))
         q.update(self._hand.with_model_followers(data["q_hand"]))
         self._model.place(q)
         for entity, (_, _, T_base_shape) in zip(
