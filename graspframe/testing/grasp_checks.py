@@ -3,7 +3,8 @@
 Two checks every hand gets (built-in or third-party; `graspframe check-hand` runs them):
 
 - `closing_problems`: closing each preshape in free space brings its opposing real
-  fingers together: the nearest points of each declared pair (`HandPreshape.opposed`)
+  fingers together: the fingertips (the last shaped link of each finger; the palm's
+  sensor pad) of each declared pair (`HandPreshape.opposed`)
   end within OPPOSED_MAX_GAP of each other, nearer than they started; a preshape that
   declares no pair needs some pair of real fingers that starts at least
   OPEN_MIN_GAP apart to end within OPPOSED_MAX_GAP (neighbouring fingers, always
@@ -21,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from graspframe.grasps import HumanGrasp
+from graspframe.grasps import PALM, HumanGrasp
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.drivers import Backend, WorldConfig
 from graspframe.hal.objects import ObjectDescription
@@ -60,6 +61,27 @@ def _finger_distance(model: CollisionModel, links_a, links_b) -> float:
     return best
 
 
+def _tip_links(hand: HandDescription, model: CollisionModel, finger: str) -> set[str]:
+    """The fingertip of a real finger: its shaped link furthest down the kinematic chain
+    (the palm: its sensor pad). Fingers meet at their tips; their first links always sit
+    beside each other and beside the palm."""
+    if finger == PALM:
+        return {hand.palm_sensor_link}
+    shaped = {link for link, _shape, _T in model.shapes()}
+    links = [link for link in hand.real_fingers[finger] if link in shaped]
+    if not links:
+        return set()
+
+    def depth(link: str) -> int:
+        n, parent = 0, model.parent_link(link)
+        while parent is not None:
+            n, parent = n + 1, model.parent_link(parent)
+        return n
+
+    deepest = max(depth(link) for link in links)
+    return {link for link in links if depth(link) == deepest}
+
+
 @dataclass(frozen=True)
 class FingerGap:
     """Gap [m] between two real fingers in the open and the closed preshape."""
@@ -80,7 +102,7 @@ def closing_gaps(hand: HandDescription, preshape: HandPreshape) -> list[FingerGa
         model.place(hand.with_model_followers(dict(q)))
         for a, b in pairs:
             gaps[(a, b, label)] = _finger_distance(
-                model, set(hand.real_fingers[a]), set(hand.real_fingers[b])
+                model, _tip_links(hand, model, a), _tip_links(hand, model, b)
             )
     return [FingerGap((a, b), gaps[(a, b, "open")], gaps[(a, b, "closed")]) for a, b in pairs]
 
