@@ -22,7 +22,13 @@ from __future__ import annotations
 from pathlib import Path
 
 from graspframe.grasps import PALM, HumanGrasp
-from graspframe.hal.descriptions import DriveGains, HandDescription, HandPreshape, JointSpec
+from graspframe.hal.descriptions import (
+    DesignObject,
+    DriveGains,
+    HandDescription,
+    HandPreshape,
+    JointSpec,
+)
 
 MODEL_PATH = Path(__file__).with_name("parallel_gripper.urdf")
 
@@ -52,18 +58,40 @@ def jaws_at(opening: float) -> dict[str, float]:
 # and the drive squeezes with stiffness * (remaining travel), up to the force limit.
 # delta [m]: fingertip height above the palm surface in the open preshape. The jaws slide
 # parallel to the palm, so it is the jaw length in both; a test checks it by forward
-# kinematics. grasp_center [m]: where an object is held, in the palm frame: between the
-# jaw pads, 20 mm below their tips, rather than at the very tips.
+# kinematics. The design object of a preshape is what it is shaped for, where it sits in
+# the palm frame when held: between the jaw pads, 20 mm below their tips (the planner
+# puts every object's centroid there; graspframe check-hand tests the gripper alone holds
+# it). Its axis lies across the stroke (palm y), so the jaws close on its sides.
 DELTA = 0.055
 GRASP_CENTER = (0.0, 0.0, DELTA - 0.02)
+ACROSS_THE_STROKE = (0.0, 1.0, 0.0)
+OPPOSED = (("left", "right"),)
 
 PRESHAPES = {
     p.name: p
     for p in (
         # Fully open (100 mm): cans, balls, discs and handles, up to about 9 cm.
-        HandPreshape("open_wide", jaws_at(0.100), jaws_at(0.0), DELTA, GRASP_CENTER),
+        HandPreshape(
+            "open_wide",
+            jaws_at(0.100),
+            jaws_at(0.0),
+            DELTA,
+            design_object=DesignObject(
+                "cylinder", GRASP_CENTER, 0.035, axis=ACROSS_THE_STROKE, length=0.10
+            ),
+            opposed=OPPOSED,
+        ),
         # Opened to 40 mm: small objects held between the jaw pads.
-        HandPreshape("pinch", jaws_at(0.040), jaws_at(0.0), DELTA, GRASP_CENTER),
+        HandPreshape(
+            "pinch",
+            jaws_at(0.040),
+            jaws_at(0.0),
+            DELTA,
+            design_object=DesignObject(
+                "cylinder", GRASP_CENTER, 0.0125, axis=ACROSS_THE_STROKE, length=0.05
+            ),
+            opposed=OPPOSED,
+        ),
     )
 }
 

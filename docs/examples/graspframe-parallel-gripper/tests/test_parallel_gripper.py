@@ -12,7 +12,11 @@ from graspframe_parallel_gripper.description import FINGERTIP_LINKS, PARALLEL_GR
 from graspframe.hal.drivers import WorldConfig
 from graspframe.registry import default_registry
 from graspframe.robot_model import CollisionModel
-from graspframe.testing import assert_hand_contract
+from graspframe.testing import (
+    assert_hand_closes,
+    assert_hand_contract,
+    assert_hand_holds_design_objects,
+)
 from graspframe.transforms import inv_T, make_T
 
 HAND = PARALLEL_GRIPPER
@@ -58,3 +62,12 @@ def test_the_jaws_close_in_sapien():
             assert reached[joint] == pytest.approx(target, abs=2e-3), joint
         palm = world.hand.T_world_palm()[:3, 3]
         assert np.allclose(palm, [0.0, 0.0, 0.5], atol=1e-3)
+
+
+def test_closing_brings_the_jaws_together():
+    assert_hand_closes(HAND)
+
+
+def test_the_gripper_alone_holds_its_design_objects():
+    backend = default_registry().get_backend("sapien")()
+    assert_hand_holds_design_objects(HAND, backend)
