@@ -42,6 +42,7 @@ OBJECT_DIMENSIONS = {
     "sphere": ("radius",),
 }
 
+FAR_OBJECT = 0.5  # [m] an object further from the palm is left out of the framing
 PANEL_INCH = 4.0  # per panel; plus margins for the title, x labels, row labels:
 TITLE_INCH, XLABEL_INCH, LEFT_INCH, RIGHT_INCH = 1.0, 0.4, 0.8, 0.2
 LEGEND_ENTRY_INCH, LEGEND_ROW_INCH = 1.25, 0.22  # the legend wraps to the figure's width
@@ -372,12 +373,21 @@ def finger_colours(finger_of_link: Mapping[str, str]) -> dict[str, str]:
     return colours
 
 
-def _limits(view: View, frames, scene: SnapshotScene) -> tuple[float, float, float]:
+def _object_in_view(moment: _Moment) -> bool:
+    """False when the object is far from the hand (knocked away, or fallen through the
+    table after a simulation failure): the views then frame the hand alone."""
+    p_world_object = np.asarray(moment.snapshot.T_world_object, dtype=float)[:3, 3]
+    return float(np.linalg.norm(p_world_object - moment.T_world_palm[:3, 3])) <= FAR_OBJECT
+
+
+def _limits(view: View, frames, scene: SnapshotScene, moments) -> tuple[float, float, float]:
     """(centre x, centre y, half width) [m], shared by the moments of one view: fits the
-    object and the hand links (and, in world views, the table top) with a margin."""
+    object (when near the hand) and the hand links (and, in world views, the table top)
+    with a margin."""
     outlines = []
-    for _, links, object_solid_view, _ in frames:
-        outlines.append(project(object_solid_view, view)[0])
+    for (_, links, object_solid_view, _), moment in zip(frames, moments, strict=True):
+        if _object_in_view(moment):
+            outlines.append(project(object_solid_view, view)[0])
         outlines.extend(project(s, view)[0] for link, s in links if link in scene.finger_of_link)
     points = np.concatenate(outlines)
     low, high = points.min(axis=0), points.max(axis=0)
@@ -544,7 +554,7 @@ def draw_snapshots(
     axes = fig.subplots(len(VIEWS), len(moments), squeeze=False)
     for row, view in enumerate(VIEWS):
         frames = [moment.in_view_frame(view) for moment in moments]
-        limits = _limits(view, frames, scene)
+        limits = _limits(view, frames, scene, moments)
         for column, (moment, frame) in enumerate(zip(moments, frames, strict=True)):
             ax = axes[row][column]
             _draw_panel(ax, view, frame, moment, scene, colours, limits)
@@ -555,6 +565,8 @@ def draw_snapshots(
                 ax.tick_params(labelleft=False)
             if row == 0:
                 label = moment.snapshot.label
+                if not _object_in_view(moment):
+                    label += " (object out of view)"
                 ax.set_title(f"{label}\n{_contact_summary(moment.snapshot)}", fontsize=10)
 
     fig.suptitle(title, fontsize=12, wrap=True, y=1 - 0.1 / height, va="top")

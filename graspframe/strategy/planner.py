@@ -46,7 +46,8 @@ from graspframe.strategy.hand_geometry import closing_configurations, lowest_han
 from graspframe.transforms import as_pose, inv_T, make_T
 
 SIDE_APPROACH_MAX_TILT_DEG = 30.0
-PRE_APPROACH_DISTANCE = 0.10  # [m] the approach starts this far before the goal
+PRE_APPROACH_DISTANCE = 0.15  # [m] the approach starts this far before the goal: more than
+# the open fingers reach plus the 5 cm object error of experiment B
 # A side approach reaches its pre-approach pose by coming straight down from this much
 # higher, so the open hand does not sweep through the object on its way there.
 SIDE_VIA_RISE = 0.15  # [m]
