@@ -1,8 +1,9 @@
 """The Barrett BH8-280 hand as graspframe sees it: joints, frames, preshapes, mapping.
 
-Model: robots/barrett/barrett.urdf, written by tools/robot_models/barrett.py (numbers and
-assumptions in docs/robots/barrett.md). Joint angles [rad]; flexion 0 = finger lying flat,
-pointing away from the palm; 90 deg = upright; positive flexion curls towards the palm.
+Model: robots/barrett/barrett.urdf, written by tools/robot_models/barrett.py (numbers,
+their sources and our assumptions in docs/robots/barrett.md). Joint angles [rad]; flexion
+0 = finger lying flat, pointing away from the palm; 90 deg = upright; positive flexion
+curls towards the palm.
 
 The distal joints follow their proximal joint at 1/3 (one motor per finger), but the
 TorqueSwitch breaks that coupling when the proximal link meets an object: the hand
@@ -17,6 +18,7 @@ import math
 from graspframe.grasps import PALM, HumanGrasp, Preshape
 from graspframe.hal.descriptions import (
     Coupling,
+    DesignObject,
     DriveGains,
     HandDescription,
     HandPreshape,
@@ -25,7 +27,8 @@ from graspframe.hal.descriptions import (
 from graspframe_robots import model_path
 
 DEG = math.pi / 180.0
-DISTAL_PER_PROXIMAL = 1.0 / 3.0  # ROBOTS.md: distal moves 1/3 of proximal
+# The distal joint moves 1/3 of the proximal (Barrett BH8-series manual).
+DISTAL_PER_PROXIMAL = 1.0 / 3.0
 
 ROOT_LINK = "bh_base"
 PALM_FRAME = "bh_palm_frame"
@@ -37,7 +40,8 @@ PROXIMAL = tuple(f"bh_f{f}_prox" for f in FINGERS)
 DISTAL = tuple(f"bh_f{f}_dist" for f in FINGERS)
 FINGERTIP_LINKS = tuple(f"bh_f{f}_tip" for f in FINGERS)
 
-# Limits equal the URDF's (ROBOTS.md: spread 0-180, proximal 0-140, distal 0-48 deg).
+# Limits equal the URDF's (Barrett BH8-280 specifications: spread 0-180, proximal
+# 0-140, distal 0-48 deg).
 # Velocities and efforts are our assumptions (see docs/robots/barrett.md).
 JOINTS = (
     JointSpec(SPREAD, 0.0, 180 * DEG, max_velocity=2.0, max_effort=2.0),
@@ -46,7 +50,8 @@ JOINTS = (
 )
 
 # TorqueSwitch: above this proximal drive torque the proximal link stops (held by its
-# worm gear) and the motor drives only the distal joint (ROBOTS.md). The preset value is
+# worm gear) and the motor drives only the distal joint (TorqueSwitch, Barrett Technology
+# documentation). The preset value is
 # our assumption: a third of the proximal effort limit, so a finger stops on an object
 # well before its drive saturates.
 BREAKAWAY_TORQUE = 1.0  # [N m]
@@ -72,23 +77,117 @@ def hand_q(spread_deg: float, proximal_deg: float) -> dict[str, float]:
 
 # Preshapes. delta [m]: fingertip height above the palm surface in the open preshape,
 # from forward kinematics (printed by `python -m tools.robot_models.barrett`; a test
-# checks it against Pinocchio).
+# checks it against Pinocchio). Palm frame: +x from finger 3 (the thumb, at x = -50 mm)
+# towards fingers 1 and 2 (at x = +50 mm, y = -25 / +25 mm), +z out of the palm.
+#
+# Design objects and grasp centres are where the object sits in the palm frame when held;
+# the planner puts the real object's centroid there (volar grasps: x and y only; non-volar
+# grasps keep the object's near face where the design object's is). The numbers below were
+# measured with the hand alone and on the arm (docs/robots/barrett.md, "Held").
+F1, F2, F3 = "finger_1", "finger_2", "finger_3"
+OPPOSED = ((F1, F3), (F2, F3))  # fingers 1 and 2 close against finger 3 in every preshape
+
+# Wrap, roll: the human Small Diameter posture holds its handle 15 deg off its palm y
+# axis; turned by 15 deg the Barrett fingers close square to the handle (a Large
+# Diameter can ends 5 deg off, which is harmless). Closing across a tilted 25 mm handle,
+# each finger met it at a different angle, the TorqueSwitch locked the first proximal
+# link early and the handle slipped (rose 0 mm).
+WRAP_ROLL = 15 * DEG
+# Wrap, grasp centre x = -15 mm (towards finger 3): a thin handle there is stopped by
+# finger 3's proximal link while the distal links of fingers 1 and 2 hook round it and
+# press it into the palm. Centred (x = 0), the proximal joints reach their 140 deg limit
+# before the fingers squeeze a handle thinner than 25 mm. Handles of 19-31 mm held from
+# x = -12 to -20 mm with the hand alone; cans are indifferent.
+WRAP_CENTRE_X = -0.015  # [m]
+
+# Precision, roll: the human Abducted Thumb posture holds its cylinder at 50 deg to its
+# palm x axis, so the Barrett closing direction (palm x) must turn 40 deg (or -140 deg) to
+# close square to the cylinder; at roll 0 the fingertips closed 40 deg off and the 6 cm
+# cylinder slipped. -140 deg (not +40) puts finger 1 below finger 3 on a side grasp, so on
+# a short cylinder that the table keeps low in the hand the pinching pair (fingers 1 and
+# 3) still straddles it. A pinch block seen from above is then closed on 40 deg off its
+# faces; the fingertips square it up while closing (held in every run).
+PRECISION_ROLL = -140 * DEG
+# Precision, grasp centre y = -12.5 mm: the object sits between finger 1 (y -36 .. -14 mm)
+# and finger 3 (y -11 .. 11 mm). Centred (y = 0), a 25 mm block fits in the 28 mm gap
+# between fingers 1 and 2 and finger 3 pushed it through and over.
+# Near face 56 mm from the palm: the fingertips meet a 4.5-7.5 cm cylinder on or just
+# beyond its equator (pulling it into the hand, not pushing it out); 45-58 mm held the
+# hand alone (one miss at 50 mm), 56-58 mm also on the arm.
+PRECISION_CENTRE = (0.0, -0.0125, 0.081)  # [m]
+
+# Precision disc: at spread 60 deg the closing planes meet in a line 14.4 mm from the palm
+# axis towards finger 3; the object is centred on it, so every finger pushes through the
+# object's centre. The knuckles of fingers 1 and 2 are 79 mm from that line, finger 3's
+# only 36 mm: finger 3 opens 22 deg further (8 instead of 30 deg), so that, closing at
+# equal speeds, the three fingertips stay equally far (within 3 mm) from the line and
+# reach an object at the same time. With equal opening angles finger 3 arrived first
+# and pushed a 6.75 cm ball off the table.
+DISC_CENTRE = (-0.0144, 0.0, 0.075)  # [m]
+
+
+def _disc_open() -> dict[str, float]:
+    q = hand_q(60, 30)
+    q[PROXIMAL[2]] = 8 * DEG
+    q[DISTAL[2]] = 8 * DEG * DISTAL_PER_PROXIMAL
+    return q
+
+
 PRESHAPES = {
     p.name: p
     for p in (
         # Large aperture (fingertips ~29 cm apart), fingers 1-2 opposing the thumb;
         # closing targets at the proximal limit (140 deg), well past contact, so the
         # fingers wrap: a 2.5 cm handle on the palm is first touched at ~135 deg.
-        HandPreshape(Preshape.WRAP.value, hand_q(0, 10), hand_q(0, 140), delta=0.0447),
-        # Fingertip grasp: tips ~7 cm apart (along the palm x axis) when open; the closed
-        # targets lie ~13 deg past the angle where the tips meet (~92 deg), to squeeze.
-        HandPreshape(Preshape.PRECISION.value, hand_q(0, 72), hand_q(0, 105), delta=0.0913),
-        # Spread 60 deg: the three fingers' closing planes are 120 deg apart.
-        HandPreshape(Preshape.PRECISION_DISC.value, hand_q(60, 30), hand_q(60, 130), delta=0.0759),
+        # Design object: a 4 cm handle lying across the palm (volar: it rests on it).
+        HandPreshape(
+            Preshape.WRAP.value,
+            hand_q(0, 10),
+            hand_q(0, 140),
+            delta=0.0447,
+            design_object=DesignObject(
+                "cylinder", (WRAP_CENTRE_X, 0.0, 0.02), 0.02, axis=(0.0, 1.0, 0.0), length=0.15
+            ),
+            roll=WRAP_ROLL,
+            opposed=OPPOSED,
+        ),
+        # Fingertip grasp. Open at 60 deg (tips 117 mm apart along palm x, at their
+        # deepest, 94 mm from the palm): at the former 72 deg (69 mm apart) the open tips
+        # touched a 6 cm cylinder during the approach and pushed it away from the palm.
+        # Closing targets at 120 deg, ~28 deg past the angle where the tips meet (~92 deg):
+        # at 105 deg a 4.5 cm cylinder pulled into the hand was held too loosely to lift
+        # (115-125 deg all hold).
+        # Design object: the 25 x 25 x 50 mm pinch block as its enclosing cylinder, held
+        # upright from above.
+        HandPreshape(
+            Preshape.PRECISION.value,
+            hand_q(0, 60),
+            hand_q(0, 120),
+            delta=0.0943,
+            design_object=DesignObject(
+                "cylinder", PRECISION_CENTRE, 0.0177, axis=(0.0, 0.0, 1.0), length=0.05
+            ),
+            roll=PRECISION_ROLL,
+            opposed=OPPOSED,
+        ),
+        # Spread 60 deg: the three fingers' closing planes are 120 deg apart. Finger 3
+        # opens further (see DISC_CENTRE). Closing targets at the proximal limit: at
+        # 130 deg a 9 cm disc slipped on the arm (the fingertips of fingers 1 and 2 reach
+        # a flat disc only near its top edge, see docs/robots/barrett.md).
+        # Design object: a 9 cm ball, its top 30 mm from the palm (a disc on the table
+        # ends as deep as the table lets the hand go).
+        HandPreshape(
+            Preshape.PRECISION_DISC.value,
+            _disc_open(),
+            hand_q(60, 140),
+            delta=0.0759,
+            design_object=DesignObject("sphere", DISC_CENTRE, 0.045),
+            opposed=OPPOSED,
+        ),
     )
 }
 
-# METHOD.md section 1.
+# The method's mapping table (docs/method.md, section 1).
 GRASP_MAP = {
     HumanGrasp.LARGE_DIAMETER: Preshape.WRAP.value,
     HumanGrasp.SMALL_DIAMETER: Preshape.WRAP.value,
