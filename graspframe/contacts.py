@@ -53,7 +53,7 @@ class PalmSensorReading:
     """What the palm tactile sensor and the first-contact detector report.
 
     touched: any contact on the hand.
-    on_palm: at least one contact is on the palm sensor link.
+    on_palm: at least one contact is on a palm link (the real finger "palm").
     first_contact: the contact with the largest force (None when nothing touches).
     """
 

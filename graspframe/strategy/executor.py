@@ -3,7 +3,8 @@ strategy, docs/method.md#the-grasp-strategy).
 
 Stages: open the hand in its preshape while the arm moves the palm to the via and the
 pre-approach pose; approach along a (volar: until the first contact, correcting the goal
-while that contact is not on the palm; non-volar: to the standoff goal, no feedback);
+while that contact is not on the palm, then centring the object on the grasp centre from
+where it touches the palm; non-volar: to the standoff goal, no feedback);
 close the hand; hold; lift; push the object (the disturbance test). Every step is
 reported as an event through `emit(kind, **data)`; "execute.snapshot" events carry the
 robot's joint values and the contacts at first contact, at the hold and after the lift,
@@ -27,6 +28,7 @@ from numpy.typing import NDArray
 
 from graspframe.contacts import Contact
 from graspframe.errors import GraspframeError, MotionError
+from graspframe.grasps import PALM
 from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import World
 from graspframe.hal.objects import ObjectDescription
@@ -35,7 +37,11 @@ from graspframe.strategy.planner import GraspPlan
 from graspframe.transforms import inv_T, rotation_angle
 
 ALPHA_START = 0.5  # [-] first weight of the contact point in the goal correction
-MAX_CORRECTIONS = 4
+MAX_CORRECTIONS = 4  # goal corrections of a volar approach (finger first, or off-centre)
+# A palm touch further than this from the grasp centre (across the object's axis) moves
+# the goal by the offset and approaches again: a thin handle held 1 cm off its grasp
+# centre slips out of a Barrett wrap.
+CENTRING_TOLERANCE = 0.005  # [m]
 APPROACH_SPEED = 0.05  # [m/s]
 # A volar approach may go this far past its goal looking for the first contact: more
 # than the 5 cm object position error of experiment B.
@@ -326,34 +332,41 @@ class _Execution:
                 p_world=contact.p_world,
                 on_palm=result.palm_touched,
             )
-            if result.palm_touched:
+            centring = self._centring_shift() if result.palm_touched else None
+            if result.palm_touched and centring is None:
                 self._snapshot("first contact", self.world.hand.contacts())
                 return corrections, True, goals
             if corrections >= p.max_corrections:
                 emit("execute.corrections_exhausted", corrections=corrections)
                 self._snapshot("first contact", self.world.hand.contacts())
-                return corrections, False, goals
-            # Retreat along the approach line, move the goal towards the contact, go again.
+                return corrections, result.palm_touched, goals
+            # Retreat along the approach line, move the goal, go again: towards a finger
+            # contact (the method), or by the palm contact's offset from the grasp centre.
             motion.move_palm_linear(
                 -a, max(result.travel, 0.0), p.approach_speed, stop_on_contact=False
             )
             p_goal_old = T_goal[:3, 3].copy()
-            p_goal_new = alpha * contact.p_world + (1.0 - alpha) * p_goal_old
-            # Never below the lowest goal the planner allows (the whole hand clears the
-            # table there).
-            p_goal_new[2] = max(p_goal_new[2], plan.min_goal_height)
+            if centring is None:
+                p_goal_new = p_goal_old + self._towards_contact(T_goal, contact.p_world, alpha)
+                alpha = alpha**2
+            else:
+                p_goal_new = p_goal_old + centring
+            # The object stands on the table: its height is known, only its place on the
+            # table is not, so the goal keeps its height (a finger touching the top rim
+            # of a can would otherwise lift the grasp off the can's middle).
+            p_goal_new[2] = p_goal_old[2]
             T_goal[:3, 3] = p_goal_new
             corrections += 1
             emit(
                 "execute.correction",
                 index=corrections,
-                alpha=alpha,
+                reason="finger first" if centring is None else "palm off centre",
+                alpha=alpha if centring is None else None,
                 p_contact=contact.p_world,
                 goal_before=p_goal_old,
                 goal_after=T_goal[:3, 3].copy(),
             )
             goals.append(T_goal[:3, 3].tolist())
-            alpha = alpha**2
             T_pre = T_goal.copy()
             T_pre[:3, 3] -= d_pre * a
             motion.move_palm_to(T_pre)
@@ -440,6 +453,49 @@ class _Execution:
         )
 
     # -- helpers ------------------------------------------------------------------------
+
+    def _towards_contact(
+        self, T_world_palm_goal: NDArray[np.float64], p_contact: NDArray[np.float64], alpha: float
+    ) -> NDArray[np.float64]:
+        """[m] world shift of the palm goal that moves the grasp centre towards a finger
+        contact: the method's p <- alpha * p_c + (1 - alpha) * p, with p the point where
+        the hand holds the object (the preshape's grasp centre at the goal; the palm
+        centre for a hand that holds objects there). Along the approach the approach
+        itself finds the object, so only the shift across it is kept."""
+        p_grasp_centre = T_world_palm_goal[:3, :3] @ self.plan.p_palm_object + T_world_palm_goal[:3, 3]
+        shift = alpha * (np.asarray(p_contact) - p_grasp_centre)
+        a = self.plan.a_world / np.linalg.norm(self.plan.a_world)
+        return shift - (shift @ a) * a
+
+    def _centring_shift(self) -> NDArray[np.float64] | None:
+        """[m] world shift of the palm goal that puts the object's centre over the plan's
+        grasp centre, judged from where the object touches the palm; None when it is
+        within CENTRING_TOLERANCE.
+
+        A convex object resting on the flat palm touches it right below its centre, so
+        the mean palm contact (in the palm plane) is where the object's centre is. Along
+        a cylinder's axis the contacts say nothing about its centre (and nothing needs
+        centring), so that component is dropped; so is the vertical one."""
+        palm_contacts = [c for c in self.world.hand.contacts() if c.real_finger == PALM]
+        if not palm_contacts:
+            return None
+        T_world_palm = self.world.hand.T_world_palm()
+        T_palm_world = inv_T(T_world_palm)
+        p_palm_contacts = np.mean(
+            [T_palm_world[:3, :3] @ c.p_world + T_palm_world[:3, 3] for c in palm_contacts], axis=0
+        )
+        offset_palm = np.array([*(p_palm_contacts[:2] - self.plan.p_palm_object[:2]), 0.0])
+        if self.obj.shape == "cylinder":
+            axis_palm = inv_T(self.plan.T_object_palm)[:3, :3] @ np.array([0.0, 0.0, 1.0])
+            axis_palm[2] = 0.0
+            if np.linalg.norm(axis_palm) > 0.5:  # the axis lies across the palm
+                u = axis_palm / np.linalg.norm(axis_palm)
+                offset_palm -= (offset_palm @ u) * u
+        shift_world = T_world_palm[:3, :3] @ offset_palm
+        shift_world[2] = 0.0  # the object's height is known (it stands on the table)
+        if np.linalg.norm(shift_world) <= CENTRING_TOLERANCE:
+            return None
+        return shift_world
 
     def _T_palm_object(self) -> NDArray[np.float64]:
         return inv_T(self.world.hand.T_world_palm()) @ self.world.object.T_world_object()

@@ -11,6 +11,7 @@ from numpy.typing import NDArray
 
 from graspframe.contacts import Contact, PalmSensorReading
 from graspframe.errors import GraspframeError, UnknownNameError
+from graspframe.grasps import PALM
 from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import ArmDriver, HandDriver, ObjectProbe
 from graspframe.robot_model import CollisionModel
@@ -195,7 +196,8 @@ class SapienHandDriver(HandDriver):
 
     def palm_sensor(self) -> PalmSensorReading:
         contacts = self.contacts()
-        on_palm = any(c.link == self.hand.palm_sensor_link for c in contacts)
+        # Any palm link counts (the sensor pad, and the palm body around it).
+        on_palm = any(c.real_finger == PALM for c in contacts)
         strongest = max(contacts, key=lambda c: np.linalg.norm(c.f_world), default=None)
         return PalmSensorReading(touched=bool(contacts), on_palm=on_palm, first_contact=strongest)
 
