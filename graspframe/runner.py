@@ -18,7 +18,7 @@ import numpy as np
 
 from graspframe.errors import GraspframeError, InputError
 from graspframe.events import RunEvent, RunInfo
-from graspframe.grasps import HUMAN_HAND, HumanGrasp
+from graspframe.grasps import HUMAN_HAND, PALM, HumanGrasp
 from graspframe.hal.drivers import WorldConfig
 from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_contacts
 from graspframe.motion.arm_motion import ArmMotion
@@ -332,7 +332,8 @@ def _execute(request, inputs, registry, recorder, result, progress):
                 q_hand=world.hand.joint_positions(),
                 T_world_palm=T_world_palm,
                 T_world_object=world.object.T_world_object(),
-                palm_touched=world.hand.palm_sensor().on_palm,
+                # Contacts now; reading the palm sensor would consume its latched touch.
+                palm_touched=any(c.real_finger == PALM for c in world.hand.contacts()),
                 distance_to_goal=float(
                     np.linalg.norm(T_world_palm[:3, 3] - plan.T_world_palm_goal[:3, 3])
                 ),

@@ -183,6 +183,8 @@ class ArmMotion:
 
         duration = distance / speed
         cycles, contact, T_at_contact, palm_touched = 0, None, None, False
+        if stop_on_contact:
+            self.world.hand.palm_sensor()  # a touch latched before this move is not ours
         n_waypoints = int(np.ceil(duration / self.control_period))
         for k in range(1, n_waypoints + 1):
             s = min(k * self.control_period * speed, distance)

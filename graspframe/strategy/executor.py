@@ -300,7 +300,7 @@ class _Execution:
         )
         self.emit("execute.approach", travel=result.travel, stopped=False, cycles=result.cycles)
         self._snapshot("approach end", self.world.hand.contacts())
-        return self.world.hand.palm_sensor().on_palm
+        return any(c.real_finger == PALM for c in self.world.hand.contacts())
 
     def _approach_volar(self) -> tuple[int, bool, list[list[float]]]:
         """Approach until the first contact; correct while it is not on the palm.

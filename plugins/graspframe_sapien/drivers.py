@@ -80,6 +80,9 @@ class SapienHandDriver(HandDriver):
     TorqueSwitch), once the leader's drive torque exceeds it while closing, the leader is
     held where it is and the follower keeps following the commanded motor position;
     commanding the leader back below the held angle releases it.
+
+    The palm sensor latches: a touch in any physics step since the last reading is
+    reported (a brief knock on a light object lasts less than a control cycle).
     """
 
     def __init__(
@@ -109,6 +112,10 @@ class SapienHandDriver(HandDriver):
         self._palm_link = links[hand.palm_frame]
         # From the model, not the simulator: link poses are only valid after a step.
         self._T_root_palm = CollisionModel(hand.model_path).T_root_frame(hand.palm_frame)
+        # Contacts of the first touching step since the last palm sensor reading, and
+        # whether any step since then touched a palm link.
+        self._first_touch: list[Contact] = []
+        self._palm_touched_since_read = False
 
     @property
     def joint_names(self) -> tuple[str, ...]:
@@ -194,10 +201,19 @@ class SapienHandDriver(HandDriver):
             self._scene, self._object_entity, self._finger_of_link, self._scene.get_timestep()
         )
 
-    def palm_sensor(self) -> PalmSensorReading:
+    def after_step(self) -> None:
+        """Latch the touches of the physics step just taken for the palm sensor."""
         contacts = self.contacts()
+        if contacts and not self._first_touch:
+            self._first_touch = contacts
         # Any palm link counts (the sensor pad, and the palm body around it).
-        on_palm = any(c.real_finger == PALM for c in contacts)
+        self._palm_touched_since_read |= any(c.real_finger == PALM for c in contacts)
+
+    def palm_sensor(self) -> PalmSensorReading:
+        """Touches since the last reading (or now, when nothing touched since)."""
+        contacts = self._first_touch or self.contacts()
+        on_palm = self._palm_touched_since_read or any(c.real_finger == PALM for c in contacts)
+        self._first_touch, self._palm_touched_since_read = [], False
         strongest = max(contacts, key=lambda c: np.linalg.norm(c.f_world), default=None)
         return PalmSensorReading(touched=bool(contacts), on_palm=on_palm, first_contact=strongest)
 

@@ -96,6 +96,7 @@ class SapienWorld(World):
             if self.object is not None:
                 self.object.before_step()
             self._scene.step()
+            self.hand.after_step()
             self._steps += 1
 
 
