@@ -113,7 +113,8 @@ class HandPreshape:
         the standoff of the non-volar strategy (docs/method.md#the-grasp-strategy).
     grasp_center: [m] palm-frame point where the object's centroid should sit when the
         hand closes on it. None: the design object's centre, else (0, 0, delta). For a
-        volar grasp only its x and y count: the object rests on the palm.
+        volar grasp only its x and y count: the object rests on the palm (see
+        `volar_centre_height` for thin objects).
     design_object: the object the preshape is shaped for, in the palm frame where the
         hand holds it; the planner scales the grasp centre's height to the real object
         and the model checks (`graspframe.testing`) hold it with the hand alone.
@@ -121,6 +122,11 @@ class HandPreshape:
         palm (0: the palm frames coincide).
     opposed: pairs of real fingers that close towards each other (a thumb and a finger);
         the model checks test that closing in free space brings each pair together.
+    volar_centre_height: [m] used as a volar preshape: the height above the palm where
+        the closing fingers hold a thin object's centroid. The volar approach finds the
+        object with the palm; the hand then backs off until the centroid is at this
+        height. An object whose half-extent is larger rests on the palm. None: every
+        object rests on the palm.
     """
 
     name: str
@@ -131,6 +137,7 @@ class HandPreshape:
     design_object: DesignObject | None = None
     roll: float = 0.0
     opposed: tuple[tuple[str, str], ...] = ()
+    volar_centre_height: float | None = None
 
     @property
     def grasp_center_palm(self) -> tuple[float, float, float]:

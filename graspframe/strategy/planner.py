@@ -115,6 +115,8 @@ class GraspPlan:
     T_world_palm_via: reached first; the palm then moves straight to the pre-approach
         pose (equal to it for a top approach).
     standoff: [m] height of the object's centroid above the palm (p_palm_object z).
+    volar_gap: [m] volar: how far the palm backs off the object it found before closing
+        (the preshape's `volar_centre_height` for thin objects; 0: it closes touching).
     table_raise: [m] how far the goal was raised to keep the whole hand off the table.
     min_goal_height: [m] lowest world height of the palm origin that keeps the hand
         TABLE_CLEARANCE above the table (the correction loop stays above it).
@@ -140,6 +142,7 @@ class GraspPlan:
     min_goal_height: float
     variant: Variant = field(default_factory=Variant)
     R_object_symmetry: NDArray[np.float64] = field(default_factory=lambda: np.eye(3))
+    volar_gap: float = 0.0
 
     @property
     def pre_approach_distance(self) -> float:
@@ -166,6 +169,7 @@ class GraspPlan:
             "min_goal_height": self.min_goal_height,
             "variant": self.variant.to_dict(),
             "R_object_symmetry": self.R_object_symmetry.tolist(),
+            "volar_gap": self.volar_gap,
         }
 
 
@@ -201,7 +205,7 @@ def object_in_palm(
     centre = np.array(preshape.grasp_center_palm, dtype=float)
     extent = obj.extent_along(R_object_palm[:, 2])
     if volar:
-        centre[2] = extent
+        centre[2] = max(extent, preshape.volar_centre_height or 0.0)
         return centre
     design = preshape.design_object
     if design is not None:
@@ -244,6 +248,7 @@ def plan_grasp(
     R_object_symmetry = _Rz(math.radians(variant.yaw_deg))
     R_object_palm = R_object_symmetry @ T_object_human_palm[:3, :3] @ _Rz(preshape.roll)
     p_palm_object = object_in_palm(preshape, obj, R_object_palm, volar, params.palm_clearance)
+    volar_gap = p_palm_object[2] - obj.extent_along(R_object_palm[:, 2]) if volar else 0.0
     if variant.raise_along_axis:
         # The hand higher up the object = the object lower in the palm frame.
         p_palm_object = p_palm_object - variant.raise_along_axis * (R_object_palm.T @ [0, 0, 1])
@@ -282,6 +287,7 @@ def plan_grasp(
         min_goal_height=min_goal_height,
         variant=variant,
         R_object_symmetry=R_object_symmetry,
+        volar_gap=float(volar_gap),
     )
 
 

@@ -99,6 +99,14 @@ WRAP_ROLL = 15 * DEG
 # before the fingers squeeze a handle thinner than 25 mm. Handles of 19-31 mm held from
 # x = -12 to -20 mm with the hand alone; cans are indifferent.
 WRAP_CENTRE_X = -0.015  # [m]
+# Wrap on a thin object: fully closed, the distal links of fingers 1 and 2 and of finger 3
+# cross about 4 cm above the palm and leave a wedge below the crossing. A handle pressed
+# on the palm sits in the wide part of that wedge: nothing squeezes it (the distals reach
+# their coupled targets untouched) and it slipped out when lifted (rose 0 mm) in 4 of 6
+# runs of experiment B. Held 20 mm off the palm (centroid 32.5 mm above it), the distal
+# links squeeze a 25 mm handle from both sides: the volar approach finds it with the
+# palm and backs off. Objects thicker than 65 mm (cans) still rest on the palm.
+WRAP_THIN_CENTRE_HEIGHT = 0.0325  # [m]
 
 # Precision, roll: the human Abducted Thumb posture holds its cylinder at 50 deg to its
 # palm x axis, so the Barrett closing direction (palm x) must turn 40 deg (or -140 deg) to
@@ -150,6 +158,7 @@ PRESHAPES = {
             ),
             roll=WRAP_ROLL,
             opposed=OPPOSED,
+            volar_centre_height=WRAP_THIN_CENTRE_HEIGHT,
         ),
         # Fingertip grasp. Open at 60 deg (tips 117 mm apart along palm x, at their
         # deepest, 94 mm from the palm): at the former 72 deg (69 mm apart) the open tips
