@@ -42,10 +42,11 @@ MAX_CORRECTIONS = 4  # goal corrections of a volar approach (finger first, or of
 # the goal by the offset and approaches again: a thin handle held 1 cm off its grasp
 # centre slips out of a Barrett wrap.
 CENTRING_TOLERANCE = 0.005  # [m]
-# A guarded approach: at 5 cm/s the first touch knocked a 12 cm handle over (the arm
-# brakes within a few millimetres, the handle tips at 0.14 N) in 2 of 6 runs of
-# experiment B.
-APPROACH_SPEED = 0.025  # [m/s]
+APPROACH_SPEED = 0.05  # [m/s] non-volar approach, retreats, back-offs
+# The volar approach is a guarded move: at 5 cm/s its first touch knocked a 12 cm handle
+# over (the arm brakes within a few millimetres, the handle tips at 0.14 N) in 2 of 6
+# runs of experiment B.
+GUARDED_APPROACH_SPEED = 0.025  # [m/s]
 # A volar approach may go this far past its goal looking for the first contact: more
 # than the 5 cm object position error of experiment B.
 APPROACH_OVERSHOOT = 0.07  # [m]
@@ -79,6 +80,7 @@ class ExecutorParams:
     alpha_start: float = ALPHA_START
     max_corrections: int = MAX_CORRECTIONS
     approach_speed: float = APPROACH_SPEED
+    guarded_approach_speed: float = GUARDED_APPROACH_SPEED
     approach_overshoot: float = APPROACH_OVERSHOOT
     close_time_limit: float = CLOSE_TIME_LIMIT
     hold_time: float = HOLD_TIME
@@ -318,7 +320,9 @@ class _Execution:
         goals = [T_goal[:3, 3].tolist()]
         alpha, corrections = p.alpha_start, 0
         while True:
-            result = motion.move_palm_linear(a, d_pre + p.approach_overshoot, p.approach_speed)
+            result = motion.move_palm_linear(
+                a, d_pre + p.approach_overshoot, p.guarded_approach_speed
+            )
             emit(
                 "execute.approach",
                 travel=result.travel,
