@@ -8,6 +8,8 @@ component order: `quat_wxyz` (SAPIEN) or `quat_xyzw` (Pinocchio, rerun, scipy).
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
@@ -84,8 +86,11 @@ def R_from_rpy(roll: float, pitch: float, yaw: float) -> Mat3:
 
 
 def rpy_from_R(R: ArrayLike) -> NDArray[np.float64]:
-    """Inverse of `R_from_rpy`: (roll, pitch, yaw) [rad]."""
-    return Rotation.from_matrix(np.asarray(R, dtype=float)).as_euler("xyz")
+    """Inverse of `R_from_rpy`: (roll, pitch, yaw) [rad]. At pitch +-90 deg (gimbal lock)
+    roll and yaw turn about the same axis: yaw is 0 and roll takes the whole turn."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="Gimbal lock detected")
+        return Rotation.from_matrix(np.asarray(R, dtype=float)).as_euler("xyz")
 
 
 def rotation_angle(R_a: ArrayLike, R_b: ArrayLike) -> float:

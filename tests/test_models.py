@@ -13,6 +13,7 @@ import pytest
 from graspframe_sapien.articulation import active_joints, create_scene, load_articulation
 from graspframe_sapien.world import SapienBackend
 
+from graspframe.errors import GraspframeError, UnknownNameError
 from graspframe.hal import WorldConfig
 from graspframe.mounting import mount
 from graspframe.registry import default_registry
@@ -81,6 +82,58 @@ def test_every_hand_mounts_on_every_arm(hand_name, arm_name):
     hand_alone = CollisionModel(hand.model_path)
     T_hand_palm = hand_alone.T_root_frame(hand.palm_frame)
     np.testing.assert_allclose(T_base_palm, T_base_flange @ T_flange_hand @ T_hand_palm, atol=1e-9)
+
+
+MOUNTINGS = [(h, m) for h in HANDS for m in REGISTRY.get_hand(h).mountings]
+
+
+@pytest.mark.parametrize(("hand_name", "mounting_name"), MOUNTINGS)
+def test_a_hand_mounts_through_its_adapters(hand_name, mounting_name):
+    import pinocchio as pin
+
+    arm, hand = REGISTRY.get_arm("kuka"), REGISTRY.get_hand(hand_name)
+    mounting = hand.mounting(mounting_name)
+    robot = mount(arm, hand, mounting=mounting_name)
+    assert robot.mounting == mounting_name
+    np.testing.assert_allclose(robot.T_flange_hand, mounting.T_flange_hand)
+    with pytest.raises(GraspframeError, match="differs"):
+        mount(arm, hand, np.eye(4), mounting=mounting_name)
+
+    # The adapter is one more link, fixed to the hand's root, with the adapter's shapes
+    # where the mounting puts them; the simulator loads the same joints.
+    adapter_link = f"{hand.root_link}_adapter"
+    combined = summarize_urdf(str(robot.urdf_path))
+    assert adapter_link in combined.links
+    assert sorted(_sapien_limits(robot.urdf_path)) == sorted(combined.joints)
+    pinocchio_model = load_pinocchio_model(robot.urdf_path, mimic=False)
+    data = pinocchio_model.createData()
+    q = pin.neutral(pinocchio_model)
+    for joint_name, value in zip(arm.joint_names, arm.home_q, strict=True):
+        q[pinocchio_model.joints[pinocchio_model.getJointId(joint_name)].idx_q] = value
+    pin.framesForwardKinematics(pinocchio_model, data, q)
+    T_base_flange = data.oMf[pinocchio_model.getFrameId(arm.flange_link)].homogeneous
+    T_base_root = data.oMf[pinocchio_model.getFrameId(hand.root_link)].homogeneous
+    # The URDF holds 9 significant digits: a quarter turn is off by ~4e-9 rad.
+    np.testing.assert_allclose(T_base_root, T_base_flange @ mounting.T_flange_hand, atol=1e-8)
+    geometry = pin.buildGeomFromUrdf(
+        pinocchio_model, str(robot.urdf_path), pin.GeometryType.COLLISION
+    )
+    geometry_data = pin.GeometryData(geometry)
+    pin.updateGeometryPlacements(pinocchio_model, data, geometry, geometry_data, q)
+    placed = [
+        geometry_data.oMg[k].homogeneous
+        for k, g in enumerate(geometry.geometryObjects)
+        if pinocchio_model.frames[g.parentFrame].name == adapter_link
+    ]
+    assert len(placed) == len(mounting.adapter)
+    for T_base_shape, shape in zip(placed, mounting.adapter, strict=True):
+        np.testing.assert_allclose(T_base_shape, T_base_root @ shape.T_root_shape, atol=1e-8)
+
+
+def test_an_unknown_mounting_is_named():
+    hand = REGISTRY.get_hand("barrett")
+    with pytest.raises(UnknownNameError, match="mounting"):
+        mount(REGISTRY.get_arm("kuka"), hand, mounting="no_such_adapter")
 
 
 @pytest.mark.parametrize(("hand_name", "preshape_name"), PRESHAPES)

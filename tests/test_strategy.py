@@ -3,6 +3,7 @@ table clearance, collision-checked arm paths, execution and runs that hold."""
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import json
 import math
@@ -13,6 +14,8 @@ import pytest
 
 from graspframe.cli import main
 from graspframe.grasps import HumanGrasp
+from graspframe.hal import AdapterShape
+from graspframe.mounting import mount
 from graspframe.registry import default_registry
 from graspframe.runner import SCENE_OBJECT_XY, RunRequest, run_grasp
 from graspframe.strategy.arm_path import choose_plan, path_problem
@@ -167,6 +170,32 @@ def test_the_chosen_arm_path_is_collision_free_and_refusals_say_why():
     assert path_problem(checked.plan, checked.robot, checked.T_world_base, hand, obj, 0.0) is None
     for reason in checked.refused:  # each refused variant names the part of the path
         assert any(part in reason for part in ("transfer", "descent", "approach", "unreachable"))
+
+
+def test_when_no_straight_mounted_path_exists_an_adapter_of_the_hand_is_tried():
+    """The Karlsruhe hand holds the short abducted-thumb cylinder with its fingers tilted
+    up: straight on the flange, the KR 5's wrist would be in the table in every variant;
+    its dorsal plate lifts the wrist above the palm, and the plate is checked too."""
+    hand, arm = REGISTRY.get_hand("karlsruhe"), REGISTRY.get_arm("kuka")
+    obj = REGISTRY.get_object("thumb_cylinder")
+    placement = reference_placement(obj, REGISTRY.get_hand("human").preshape_for(G.ABDUCTED_THUMB))
+    T_world_object = make_T(p=[*SCENE_OBJECT_XY, obj.half_height])
+    checked = choose_plan(
+        G.ABDUCTED_THUMB, placement.T_object_palm, T_world_object, hand, arm, obj, 0.0, np.eye(4)
+    )
+    assert checked.plan.variant.mounting == checked.robot.mounting == "dorsal_plate"
+    assert checked.refused and not any("mounting" in reason for reason in checked.refused)
+    assert path_problem(checked.plan, checked.robot, checked.T_world_base, hand, obj, 0.0) is None
+    # The adapter is checked like an arm link: a plate grown to 40 cm hits the table.
+    plate = hand.mounting("dorsal_plate")
+    (shape,) = plate.adapter
+    grown = AdapterShape("box", {"size_x": 0.4, "size_y": 0.4, "size_z": 0.4}, shape.T_root_shape)
+    big_hand = dataclasses.replace(
+        hand, mountings={"big": dataclasses.replace(plate, adapter=(grown,))}
+    )
+    big = mount(arm, big_hand, mounting="big")
+    problem = path_problem(checked.plan, big, checked.T_world_base, big_hand, obj, 0.0)
+    assert problem is not None and f"{hand.root_link}_adapter" in problem
 
 
 def test_a_plan_without_a_collision_free_path_is_refused():

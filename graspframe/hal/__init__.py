@@ -2,6 +2,7 @@
 
 from graspframe.hal.classifier import Classifier, HumanGraspEstimate, Neighbour
 from graspframe.hal.descriptions import (
+    AdapterShape,
     ArmDescription,
     Coupling,
     DesignObject,
@@ -9,11 +10,13 @@ from graspframe.hal.descriptions import (
     HandDescription,
     HandPreshape,
     JointSpec,
+    Mounting,
 )
 from graspframe.hal.drivers import ArmDriver, Backend, HandDriver, ObjectProbe, World, WorldConfig
 from graspframe.hal.objects import ObjectDescription
 
 __all__ = [
+    "AdapterShape",
     "ArmDescription",
     "ArmDriver",
     "Backend",
@@ -26,6 +29,7 @@ __all__ = [
     "HandPreshape",
     "HumanGraspEstimate",
     "JointSpec",
+    "Mounting",
     "Neighbour",
     "ObjectDescription",
     "ObjectProbe",

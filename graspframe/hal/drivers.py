@@ -27,6 +27,8 @@ class WorldConfig:
 
     arm: None for a free-floating hand (the human reference hand).
     T_flange_hand: pose of the hand's root link in the arm flange frame.
+    mounting: the hand's mounting (adapter) between flange and hand, by name; None: the
+        root link straight on the flange at T_flange_hand.
     T_world_arm_base: pose of the arm base in the world.
     T_world_object: true pose of the object's centroid frame in the world.
     table_height: [m] height of the table top (world z up).
@@ -38,6 +40,7 @@ class WorldConfig:
     arm: ArmDescription | None
     object: ObjectDescription | None
     T_flange_hand: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
+    mounting: str | None = None
     T_world_arm_base: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
     T_world_object: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
     table_height: float = 0.0

@@ -13,12 +13,20 @@ object where the robot believes it is:
 
 The hand is in its open preshape along the whole path. The first variant that passes
 wins; when none does, the plan is refused with the reason of each variant tried.
+
+The variants are first tried with the hand's root link bolted straight onto the flange,
+then through each adapter the hand declares (`HandDescription.mountings`), in order. An
+adapter changes where the arm's wrist is relative to the palm: a hand whose fingers
+continue the flange axis (an anthropomorphic wrist) holding a short upright object with
+its fingers tilted up puts the arm's wrist below the palm, into the table, in every
+variant; an adapter on the back of the hand lifts the wrist above it. The adapter's
+shapes are checked like the arm's links.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -173,26 +181,30 @@ def choose_plan(
     params: PlannerParams | None = None,
 ) -> CheckedPlan:
     """The first variant of the grasp whose path is collision-free on the arm standing
-    at T_world_base; PlanningError listing every variant's reason when none is."""
-    robot = mount(arm, hand)
-    ik = IkSolver(robot)
+    at T_world_base, the hand straight on the flange, else through each of its mountings
+    in turn; PlanningError listing every variant's reason when none is."""
     refused = []
     first = plan_grasp(grasp, T_object_human_palm, T_world_object_est, hand, obj, table_height)
-    for variant in variants(obj, first.approach == "side"):
-        plan = plan_grasp(
-            grasp,
-            T_object_human_palm,
-            T_world_object_est,
-            hand,
-            obj,
-            table_height,
-            params,
-            variant,
-        )
-        problem = path_problem(plan, robot, T_world_base, hand, obj, table_height, ik)
-        if problem is None:
-            return CheckedPlan(plan, robot, np.asarray(T_world_base, dtype=float), tuple(refused))
-        refused.append(f"{_describe(variant)}: {problem}")
+    for mounting in (None, *hand.mountings):
+        robot = mount(arm, hand, mounting=mounting)
+        ik = IkSolver(robot)
+        for variant in variants(obj, first.approach == "side"):
+            variant = replace(variant, mounting=mounting)
+            plan = plan_grasp(
+                grasp,
+                T_object_human_palm,
+                T_world_object_est,
+                hand,
+                obj,
+                table_height,
+                params,
+                variant,
+            )
+            problem = path_problem(plan, robot, T_world_base, hand, obj, table_height, ik)
+            if problem is None:
+                T_world_base = np.asarray(T_world_base, dtype=float)
+                return CheckedPlan(plan, robot, T_world_base, tuple(refused))
+            refused.append(f"{_describe(variant)}: {problem}")
     raise PlanningError(
         f"no collision-free path for the {hand.name} {grasp.value} grasp on {arm.name} "
         f"({len(refused)} variants tried; first: {refused[0]})"
@@ -228,4 +240,6 @@ def _describe(variant: Variant) -> str:
         parts.append(f"{1000 * variant.raise_along_axis:.0f} mm higher")
     if variant.via_rise is not None:
         parts.append(f"via {1000 * variant.via_rise:.0f} mm up")
+    if variant.mounting is not None:
+        parts.append(f"{variant.mounting} mounting")
     return ", ".join(parts)

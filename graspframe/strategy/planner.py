@@ -27,7 +27,8 @@ Choices the method leaves open (see docs/method.md):
 - Alternatives for a collision-free arm path (graspframe/strategy/arm_path.py): the
   grasp may be turned about the object's vertical axis when the object is symmetric
   about it (yaw), moved up along an upright object's axis (raise), and the via pose may
-  be higher.
+  be higher; all of them again with the hand on each adapter it declares (mounting: the
+  palm pose is the same, the arm holds the hand differently).
 """
 
 from __future__ import annotations

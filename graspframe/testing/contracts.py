@@ -14,7 +14,13 @@ import numpy as np
 from graspframe.errors import GraspframeError
 from graspframe.grasps import PALM, HumanGrasp
 from graspframe.hal.classifier import Classifier, HumanGraspEstimate
-from graspframe.hal.descriptions import ArmDescription, DriveGains, HandDescription, JointSpec
+from graspframe.hal.descriptions import (
+    ArmDescription,
+    DriveGains,
+    HandDescription,
+    JointSpec,
+    Mounting,
+)
 from graspframe.robot_model import CollisionModel, summarize_urdf
 
 NAME_PATTERN = re.compile(r"^[a-z][a-z0-9_]*$")
@@ -158,6 +164,12 @@ def hand_problems(hand: HandDescription) -> list[str]:
             problems.append(
                 f"mapping table sends {grasp.value!r} to undefined preshape {preshape_name!r}"
             )
+
+    # Mountings: named like plugins, each a `Mounting` (validated when built).
+    for name, mounting in hand.mountings.items():
+        problems += _name_problems("mounting", name)
+        if not isinstance(mounting, Mounting):
+            problems.append(f"mounting {name!r} is a {type(mounting).__name__}, not a Mounting")
 
     links = [("root link", hand.root_link), ("palm frame", hand.palm_frame)]
     links += [

@@ -22,14 +22,19 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from graspframe.grasps import PALM, THUMB, HumanGrasp, Preshape
 from graspframe.hal.descriptions import (
+    AdapterShape,
     DesignObject,
     DriveGains,
     HandDescription,
     HandPreshape,
     JointSpec,
+    Mounting,
 )
+from graspframe.transforms import inv_T, make_T
 from graspframe_robots import model_path
 
 NAME = "karlsruhe"
@@ -166,6 +171,42 @@ GRASP_MAP = {
     HumanGrasp.PRECISION_DISC: Preshape.DISC,
 }
 
+# A mounting for when the arm cannot hold the hand by its wrist (OUR ASSUMPTION, an
+# adapter of ours, not part of the published hand). Bolted straight on, the flange
+# continues the fingers' axis: in the side grasps of short upright objects the fingers
+# tilt up (the abducted-thumb cylinder lies obliquely across the palm, 30 deg; the
+# small-diameter handle 15 deg), which puts the KR 5's wrist 6 cm below the palm, into the
+# table. The dorsal plate holds the hand by the back of its palm instead: a 64 x 64 mm
+# plate, 15 mm thick, on the back face of the palm (kh_base x = -11 mm), the flange
+# bolted to its centre with its axis along the palm normal. The centre sits 20 mm
+# towards the thumb side and 52 mm from the wrist face (5 mm towards the fingers from the
+# palm centre): the part of the back of the hand that is highest in those side grasps.
+DORSAL_PLATE_THICKNESS = 0.015  # [m]
+DORSAL_PLATE_SIZE = 0.064  # [m] square, the flange's diameter
+DORSAL_PLATE_CENTRE = (-0.011 - DORSAL_PLATE_THICKNESS / 2, 0.020, 0.052)  # [m] kh_base
+# The flange frame in kh_base: z along the palm normal (kh_base x) into the hand, x
+# towards the fingertips (kh_base z).
+_R_BASE_FLANGE = np.column_stack([[0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]])
+_P_BASE_FLANGE = np.array(DORSAL_PLATE_CENTRE) - [DORSAL_PLATE_THICKNESS / 2, 0.0, 0.0]
+MOUNTINGS = {
+    "dorsal_plate": Mounting(
+        T_flange_hand=inv_T(make_T(_R_BASE_FLANGE, _P_BASE_FLANGE)),
+        adapter=(
+            AdapterShape(
+                "box",
+                {
+                    "size_x": DORSAL_PLATE_THICKNESS,
+                    "size_y": DORSAL_PLATE_SIZE,
+                    "size_z": DORSAL_PLATE_SIZE,
+                },
+                make_T(p=DORSAL_PLATE_CENTRE),
+            ),
+        ),
+        mass=0.17,  # [kg] aluminium, 64 x 64 x 15 mm, 2.7 g/cm^3 (OUR ASSUMPTION)
+        summary="plate on the back of the palm, flange axis along the palm normal",
+    ),
+}
+
 KARLSRUHE_HAND = HandDescription(
     name=NAME,
     model_path=model_path(MODEL_FILE),
@@ -182,4 +223,5 @@ KARLSRUHE_HAND = HandDescription(
     mass=MASS,
     summary="Karlsruhe humanoid hand: right, 5 fingers, 8 fluidic (soft) joints, 0..90 deg",
     extras={"model_frame": MODEL_FRAME, "fingertip_frames": FINGERTIP_FRAMES},
+    mountings=MOUNTINGS,
 )

@@ -40,7 +40,7 @@ class SapienWorld(World):
 
         hand, arm = config.hand, config.arm
         if arm is not None:
-            self.robot = mount(arm, hand, config.T_flange_hand)
+            self.robot = mount(arm, hand, config.T_flange_hand, config.mounting)
             urdf_path = self.robot.urdf_path
         else:
             self.robot = None
