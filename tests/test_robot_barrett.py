@@ -358,17 +358,19 @@ def test_delta_is_the_fingertip_height_above_the_palm(fk, name):
 
 def test_wrap_opens_wide():
     t = tips_of(Preshape.WRAP, "open")
-    assert t[1][1] - t[3][1] > 0.25  # fingertips more than 25 cm apart
+    # Fingertips more than 15 cm apart: the 10 cm can (125 % Large Diameter object)
+    # passes between them with room for a 2.5 cm position error on either side.
+    assert t[1][1] - t[3][1] > 0.15
 
 
 def test_precision_opens_to_a_small_aperture_and_closes_past_the_meeting_point():
     t_open = tips_of(Preshape.PRECISION, "open")
     aperture = t_open[1][1] - t_open[3][1]
     # Wide enough for the 7.5 cm cylinder (125 % Abducted Thumb object) to pass between
-    # the open fingertips, less than half the wrap's aperture.
+    # the open fingertips, less than two thirds of the wrap's aperture.
     assert 0.11 <= aperture <= 0.125
     t_wrap = tips_of(Preshape.WRAP, "open")
-    assert aperture < 0.5 * (t_wrap[1][1] - t_wrap[3][1])
+    assert aperture < 2 / 3 * (t_wrap[1][1] - t_wrap[3][1])
     t_closed = tips_of(Preshape.PRECISION, "closed")
     assert t_closed[1][1] < t_closed[3][1]  # the tips have passed each other in free space
 

@@ -107,6 +107,13 @@ WRAP_CENTRE_X = -0.015  # [m]
 # links squeeze a 25 mm handle from both sides: the volar approach finds it with the
 # palm and backs off. Objects thicker than 65 mm (cans) still rest on the palm.
 WRAP_THIN_CENTRE_HEIGHT = 0.0325  # [m]
+# Wrap, open proximal angles [deg] of fingers 1 and 2, and of finger 3: fingers 1 and 2
+# start 60 deg further closed, so closing at equal speeds they stand over the handle
+# before finger 3 sweeps it against them. Opened alike (10 deg), finger 3 arrived first
+# and pushed the handle across the palm into the gap under the crossing fingers, where
+# nothing squeezed it: held in 3 of 6 runs of experiment B, now 6 of 6. The open
+# aperture still takes a 10 cm can (fingers 1 and 2 end 94 mm out along palm x).
+WRAP_OPEN_DEG = (70.0, 10.0)
 
 # Precision, roll: the human Abducted Thumb posture holds its cylinder at 50 deg to its
 # palm x axis, so the Barrett closing direction (palm x) must turn 40 deg (or -140 deg) to
@@ -134,6 +141,14 @@ PRECISION_CENTRE = (0.0, -0.0125, 0.081)  # [m]
 DISC_CENTRE = (-0.0144, 0.0, 0.075)  # [m]
 
 
+def _wrap_open() -> dict[str, float]:
+    """Wrap, open: fingers 1 and 2 already at 70 deg, finger 3 at 10 deg (see WRAP_OPEN)."""
+    q = hand_q(0, WRAP_OPEN_DEG[0])
+    q[PROXIMAL[2]] = WRAP_OPEN_DEG[1] * DEG
+    q[DISTAL[2]] = WRAP_OPEN_DEG[1] * DEG * DISTAL_PER_PROXIMAL
+    return q
+
+
 def _disc_open() -> dict[str, float]:
     q = hand_q(60, 30)
     q[PROXIMAL[2]] = 8 * DEG
@@ -144,15 +159,15 @@ def _disc_open() -> dict[str, float]:
 PRESHAPES = {
     p.name: p
     for p in (
-        # Large aperture (fingertips ~29 cm apart), fingers 1-2 opposing the thumb;
-        # closing targets at the proximal limit (140 deg), well past contact, so the
-        # fingers wrap: a 2.5 cm handle on the palm is first touched at ~135 deg.
+        # Large aperture (fingers 1-2 raised to 70 deg, finger 3 nearly flat; see
+        # WRAP_OPEN_DEG), fingers 1-2 opposing the thumb; closing targets at the proximal
+        # limit (140 deg), well past contact, so the fingers wrap.
         # Design object: a 4 cm handle lying across the palm (volar: it rests on it).
         HandPreshape(
             Preshape.WRAP.value,
-            hand_q(0, 10),
+            _wrap_open(),
             hand_q(0, 140),
-            delta=0.0447,
+            delta=0.0922,
             design_object=DesignObject(
                 "cylinder", (WRAP_CENTRE_X, 0.0, 0.02), 0.02, axis=(0.0, 1.0, 0.0), length=0.15
             ),
