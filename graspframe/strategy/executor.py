@@ -42,6 +42,7 @@ MAX_CORRECTIONS = 4  # goal corrections of a volar approach (finger first, or of
 # the goal by the offset and approaches again: a thin handle held 1 cm off its grasp
 # centre slips out of a Barrett wrap.
 CENTRING_TOLERANCE = 0.005  # [m]
+MIN_RETREAT = 0.03  # [m] shortest start of a corrected approach before its goal
 APPROACH_SPEED = 0.05  # [m/s] non-volar approach, retreats, back-offs
 # The volar approach is a guarded move: at 5 cm/s its first touch knocked a 12 cm handle
 # over (the arm brakes within a few millimetres, the handle tips at 0.14 N) in 2 of 6
@@ -315,13 +316,13 @@ class _Execution:
         Returns (corrections, palm contact reached, goals tried)."""
         plan, motion, p, emit = self.plan, self.motion, self.p, self.emit
         a = plan.a_world
-        d_pre = plan.pre_approach_distance
+        d_start = plan.pre_approach_distance  # from the approach's start to its goal
         T_goal = plan.T_world_palm_goal.copy()
         goals = [T_goal[:3, 3].tolist()]
         alpha, corrections = p.alpha_start, 0
         while True:
             result = motion.move_palm_linear(
-                a, d_pre + p.approach_overshoot, p.guarded_approach_speed
+                a, d_start + p.approach_overshoot, p.guarded_approach_speed
             )
             emit(
                 "execute.approach",
@@ -376,9 +377,26 @@ class _Execution:
                 goal_after=T_goal[:3, 3].copy(),
             )
             goals.append(T_goal[:3, 3].tolist())
-            T_pre = T_goal.copy()
-            T_pre[:3, 3] -= d_pre * a
-            motion.move_palm_to(T_pre)
+            d_start = self._to_corrected_start(T_goal, result.travel)
+
+    def _to_corrected_start(
+        self, T_world_palm_goal: NDArray[np.float64], retreated: float
+    ) -> float:
+        """Move to the start of the approach to a corrected goal: the pre-approach
+        distance back from it, or, when the arm cannot reach that (a low goal near the
+        arm's base), as far back as the hand just retreated. Returns that distance [m]."""
+        a = self.plan.a_world
+        distances = (self.plan.pre_approach_distance, max(retreated, MIN_RETREAT))
+        for k, d_start in enumerate(distances):
+            T_start = T_world_palm_goal.copy()
+            T_start[:3, 3] -= d_start * a
+            try:
+                self.motion.move_palm_to(T_start)
+                return d_start
+            except MotionError:
+                if k == len(distances) - 1:
+                    raise
+        raise AssertionError("unreachable")  # the loop returns or raises
 
     def _back_off(self, gap: float) -> None:
         """Back the palm off the object it found by `gap` [m] along the approach, so the
@@ -479,7 +497,8 @@ class _Execution:
         the hand holds the object (the preshape's grasp centre at the goal; the palm
         centre for a hand that holds objects there). Along the approach the approach
         itself finds the object, so only the shift across it is kept."""
-        p_grasp_centre = T_world_palm_goal[:3, :3] @ self.plan.p_palm_object + T_world_palm_goal[:3, 3]
+        R_world_palm, p_world_palm = T_world_palm_goal[:3, :3], T_world_palm_goal[:3, 3]
+        p_grasp_centre = R_world_palm @ self.plan.p_palm_object + p_world_palm
         shift = alpha * (np.asarray(p_contact) - p_grasp_centre)
         a = self.plan.a_world / np.linalg.norm(self.plan.a_world)
         return shift - (shift @ a) * a

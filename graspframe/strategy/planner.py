@@ -54,6 +54,8 @@ PRE_APPROACH_DISTANCE = 0.15  # [m] the approach starts this far before the goal
 SIDE_VIA_RISE = 0.15  # [m]
 TABLE_CLEARANCE = 0.01  # [m] of the whole hand above the table at the goal
 PALM_CLEARANCE = 0.005  # [m] of a non-volar object's near face from the palm
+MAX_RAISE_ITERATIONS = 5
+RAISE_TOLERANCE = 1e-6  # [m]
 DOWN = np.array([0.0, 0.0, -1.0])
 
 
@@ -257,13 +259,19 @@ def plan_grasp(
     T_goal = T_world_object_est @ T_object_palm
     approach, a = approach_direction(T_goal[:3, :3], params)
 
-    configurations = closing_configurations(hand, preshape, obj, inv_T(T_object_palm))
-    lowest = lowest_hand_point(hand, configurations, T_goal[:3, :3])
-    min_goal_height = table_height + params.table_clearance - lowest
-    table_raise = max(0.0, min_goal_height - T_goal[2, 3])
-    T_goal[2, 3] += table_raise
-
-    T_object_palm = inv_T(T_world_object_est) @ T_goal
+    # Raising the goal moves the object in the palm frame, and with it where the fingers
+    # stop on it: repeat until the lowest point of the closing hand settles.
+    table_raise = 0.0
+    for _ in range(MAX_RAISE_ITERATIONS):
+        configurations = closing_configurations(hand, preshape, obj, inv_T(T_object_palm))
+        lowest = lowest_hand_point(hand, configurations, T_goal[:3, :3])
+        min_goal_height = table_height + params.table_clearance - lowest
+        step = max(0.0, min_goal_height - T_goal[2, 3])
+        T_goal[2, 3] += step
+        table_raise += step
+        T_object_palm = inv_T(T_world_object_est) @ T_goal
+        if step < RAISE_TOLERANCE:
+            break
     T_pre = T_goal.copy()
     T_pre[:3, 3] -= params.pre_approach_distance * a
     T_via = T_pre.copy()
