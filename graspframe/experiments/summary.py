@@ -119,7 +119,7 @@ def write_tables(summary: list[dict], out_dir: Path) -> tuple[Path, Path]:
         "| mount | hand | grasp | A held | A pos err [mm] | A ori err [deg] | A VF robot/human "
         "| B held (lift) | B pos err [mm] | B ori err [deg] | B VF robot (mean)"
         f"{size_headers} | failures |",
-        "|---" * (13 + len(sizes)) + "|",
+        "|---" * (12 + len(sizes)) + "|",
     ]
     for r in summary:
         size_cells = "".join(

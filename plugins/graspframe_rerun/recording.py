@@ -211,7 +211,7 @@ class RunRecording:
                 origins=[before],
                 vectors=[after - before],
                 colors=[(255, 60, 60)],
-                labels=[f"correction {data['index']}"],
+                labels=[f"correction {data['index']}: {data.get('reason', '')}"],
             ),
             static=True,
         )
