@@ -1,0 +1,72 @@
+"""Held tables for the docs, from the trials of a sweep.
+
+    python -m tools.held_table runs/evaluate/trials.jsonl [HAND ...]
+
+prints, per hand, one markdown row per grasp and object (the default object and the
+75 % and 125 % variants of experiment A) with the outcome on each mount: "yes" (held
+after the lift and under the disturbance), "lift only" (held after the lift, slipped
+when pushed), or "no" with the failure reason. The sweep that writes the file:
+
+    graspframe evaluate --mount arm,floating --sizes 75,125 --out runs/evaluate
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from graspframe.grasps import HumanGrasp
+from graspframe.registry import default_registry
+
+
+def _outcome(trial: dict) -> str:
+    if trial.get("success"):
+        return "yes"
+    if trial.get("held_after_lift"):
+        return "lift only"
+    reason = trial.get("failure_reason") or trial.get("error") or "not run"
+    return f"**no**: {reason}"
+
+
+def held_rows(trials: list[dict], hand: str) -> list[str]:
+    """Markdown table rows (header included) of the hand's experiment-A trials."""
+    registry = default_registry()
+    mounts = sorted({t["mount"] for t in trials})
+    by_key = {
+        (t["grasp"], t.get("object") or "", t["mount"]): t
+        for t in trials
+        if t["hand"] == hand and t["condition"].startswith("A")
+    }
+    rows = [
+        "| grasp | object | " + " | ".join(mounts) + " |",
+        "|---|---|" + "---|" * len(mounts),
+    ]
+    for grasp in HumanGrasp:
+        default = registry.default_object_for(grasp).name
+        for suffix in ("_075", "", "_125"):
+            name = default + suffix
+            cells = []
+            for mount in mounts:
+                trial = by_key.get((grasp.value, name if suffix else "", mount))
+                cells.append(_outcome(trial) if trial else "-")
+            rows.append(f"| {grasp.value} | {name} | " + " | ".join(cells) + " |")
+    return rows
+
+
+def main(argv: list[str]) -> int:
+    if not argv:
+        print(__doc__)
+        return 2
+    path = Path(argv[0])
+    trials = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+    hands = argv[1:] or sorted({t["hand"] for t in trials})
+    for hand in hands:
+        print(f"{hand}:\n")
+        print("\n".join(held_rows(trials, hand)))
+        print()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
