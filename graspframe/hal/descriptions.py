@@ -121,6 +121,12 @@ class HandPreshape:
         palm (0: the palm frames coincide).
     opposed: pairs of real fingers that close towards each other (a thumb and a finger);
         the model checks test that closing in free space brings each pair together.
+    stop_direction: palm-frame unit vector along the palm surface pointing at fingers
+        that stay where they are and take the object's rim (a non-volar grasp whose
+        other fingers, e.g. a sweeping thumb, come to the object wherever it is). An
+        object larger or smaller than the design object then keeps its extent along
+        it where the design object's is: its centre moves back by the difference of
+        the extents. None: the grasp centre's x and y hold for every size.
     """
 
     name: str
@@ -131,6 +137,7 @@ class HandPreshape:
     design_object: DesignObject | None = None
     roll: float = 0.0
     opposed: tuple[tuple[str, str], ...] = ()
+    stop_direction: tuple[float, float, float] | None = None
 
     @property
     def grasp_center_palm(self) -> tuple[float, float, float]:
