@@ -26,6 +26,7 @@ from graspframe.strategy.planner import (
     PlannerParams,
     PlanningError,
     approach_direction,
+    object_in_palm,
     plan_grasp,
 )
 from graspframe.strategy.reference_poses import R_OBJECT_PALM_TOP, reference_placement
@@ -153,6 +154,28 @@ def test_the_whole_hand_clears_the_table_at_the_goal(hand_name, grasp):
     assert plan.min_goal_height == pytest.approx(TABLE_CLEARANCE - lowest, abs=1e-6)
 
 
+def test_a_stop_direction_keeps_the_objects_rim_at_the_stopping_fingers():
+    """Karlsruhe disc: index and middle take the far rim (palm +x) where they stand, so a
+    smaller or larger disc keeps its far rim where the design disc's is; its near face
+    (the top) keeps the design's distance from the palm as before."""
+    hand = REGISTRY.get_hand("karlsruhe")
+    preshape = hand.preshape_for(HumanGrasp.PRECISION_DISC)
+    design = preshape.design_object
+    assert preshape.stop_direction == (1.0, 0.0, 0.0)
+    R_object_palm = R_OBJECT_PALM_TOP
+    for name in ("disc_075", "disc", "disc_125"):
+        obj = REGISTRY.get_object(name)
+        radius, half = obj.dimensions["radius"], obj.dimensions["length"] / 2
+        centre = object_in_palm(preshape, obj, R_object_palm, volar=False)
+        assert centre[0] + radius == pytest.approx(design.centre[0] + design.radius, abs=1e-9)
+        assert centre[1] == pytest.approx(design.centre[1], abs=1e-9)
+        assert centre[2] - half == pytest.approx(design.centre[2] - design.length / 2, abs=1e-9)
+    # Without a stop direction only the height follows the object.
+    plain = dataclasses.replace(preshape, stop_direction=None)
+    centre = object_in_palm(plain, REGISTRY.get_object("disc_125"), R_object_palm, volar=False)
+    np.testing.assert_allclose(centre[:2], design.centre[:2], atol=1e-9)
+
+
 def test_a_goal_that_would_put_the_hand_into_the_table_is_raised():
     hand, obj = REGISTRY.get_hand("barrett"), REGISTRY.get_object("ball_075")
     T_world_object = make_T(p=[0.55, 0.2, obj.half_height])
@@ -243,9 +266,9 @@ NOT_HELD = {
         "path takes the grasp turned by 30 deg)"
     ),
     ("barrett", G.PRECISION_DISC, "075", "arm"): "the fingertips pass over the 19 mm disc",
-    ("karlsruhe", G.PRECISION_DISC, "100", "arm"): "the disc slips out of the rim grip",
-    ("karlsruhe", G.PRECISION_DISC, "100", "floating"): "the disc slips out of the rim grip",
-    ("karlsruhe", G.PRECISION_DISC, "125", "arm"): "the disc slips out of the rim grip",
+    ("karlsruhe", G.PRECISION_DISC, "125", "arm"): (
+        "the 11 cm disc does not fit between the thumb and the little finger's post"
+    ),
 }
 
 

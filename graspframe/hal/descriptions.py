@@ -129,6 +129,12 @@ class HandPreshape:
         object with the palm; the hand then backs off until the centroid is at this
         height. An object whose half-extent is larger rests on the palm. None: every
         object rests on the palm.
+    stop_direction: palm-frame unit vector along the palm surface pointing at fingers
+        that stay where they are and take the object's rim (a non-volar grasp whose
+        other fingers, e.g. a sweeping thumb, come to the object wherever it is). An
+        object larger or smaller than the design object then keeps its extent along
+        it where the design object's is: its centre moves back by the difference of
+        the extents. None: the grasp centre's x and y hold for every size.
     """
 
     name: str
@@ -140,6 +146,7 @@ class HandPreshape:
     roll: float = 0.0
     opposed: tuple[tuple[str, str], ...] = ()
     volar_centre_height: float | None = None
+    stop_direction: tuple[float, float, float] | None = None
 
     @property
     def grasp_center_palm(self) -> tuple[float, float, float]:

@@ -15,7 +15,9 @@ Choices the method leaves open (see docs/method.md):
   real object's extent: a volar grasp rests the object on the palm; a non-volar grasp
   keeps the object's near face where the design object's was, never closer to the palm
   than PALM_CLEARANCE. With the default grasp centre (0, 0, delta) this is the method's
-  "p_h->o minus delta" along the approach.
+  "p_h->o minus delta" along the approach. A preshape with a stop_direction (fingers
+  that take the object's rim where they stand) also keeps the object's extent along it
+  where the design object's was, so a larger object sits further back from them.
 - Approach selection follows the palm normal: within SIDE_APPROACH_MAX_TILT_DEG of
   horizontal, the side approach a_s (the normal projected on the table plane); pointing
   further down, the top approach a_v (straight down). A palm facing up cannot be
@@ -213,6 +215,10 @@ def object_in_palm(
     design = preshape.design_object
     if design is not None:
         centre[2] += extent - design.extent_along((0.0, 0.0, 1.0))
+        if preshape.stop_direction is not None:
+            u = np.asarray(preshape.stop_direction, dtype=float)
+            u = u / np.linalg.norm(u)
+            centre -= (obj.extent_along(R_object_palm @ u) - design.extent_along(u)) * u
     centre[2] = max(centre[2], extent + palm_clearance)
     return centre
 

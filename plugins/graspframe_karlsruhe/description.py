@@ -141,21 +141,30 @@ PRESHAPES = {
             design_object=DesignObject("sphere", (0.042, -0.027, 0.050), 0.045),
             opposed=((THUMB, "index"), (THUMB, "middle")),
         ),
-        # Disc: the disc lies flat under the palm and is held at its rim. The thumb comes
-        # in from the side (t1 51 deg, beside the index) and sweeps across towards the
-        # ring and little, which close onto the far rim (40 -> 66 deg); index and middle
-        # start straight and curl round the distal rim. The upright thumb of sphere would
-        # be the hand's deepest point and, kept 1 cm above the table, would hold the disc
-        # out of the fingers' reach. Holds the 75 % disc; the 100 % and 125 % discs slip
-        # out during the lift (docs/robots/karlsruhe.md).
+        # Disc: the disc lies flat under the palm and is held at its rim. The index and
+        # middle close from straight (2/1 deg) to fully curled (90/90) at equal joint
+        # speeds: their distal segments come down outside the far rim and take it on
+        # their palmar side with a horizontal push (a disc whose far rim lies beyond
+        # the 45-deg reach of the fingertips is met on its top edge and pressed down
+        # instead, which lets it slip in the lift). The thumb comes in from the side (t1
+        # 45 deg, beside the index, outside the disc) and sweeps across the palm towards
+        # the little finger; the little finger stands as a post (90 deg) beside the
+        # disc's edge and stops that push, the ring stays clear above the disc (20 deg).
+        # Pressing on the top face (a curling ring or little) holds the disc down on the
+        # table. The index and middle are the stop (stop_direction +x): a smaller or
+        # larger disc keeps its far rim where the 9 cm design disc's is and the thumb
+        # meets its near rim wherever it is. The upright thumb of sphere would be the
+        # hand's deepest point and, kept 1 cm above the table, would hold the disc out of
+        # the fingers' reach.
         HandPreshape(
             Preshape.DISC,
-            open_q=_q_deg(51, 0, 2, 1, 2, 1, 40, 40),
-            closed_q=_q_deg(80, 90, 80, 90, 80, 90, 66, 66),
-            delta=0.0464,  # thumb tip
+            open_q=_q_deg(45, 0, 2, 1, 2, 1, 20, 90),
+            closed_q=_q_deg(80, 90, 90, 90, 90, 90, 20, 90),
+            delta=0.0413,  # thumb tip
             design_object=DesignObject(
-                "cylinder", (0.054, -0.019, 0.050), 0.045, axis=(0.0, 0.0, 1.0), length=0.025
+                "cylinder", (0.028, -0.022, 0.050), 0.045, axis=(0.0, 0.0, 1.0), length=0.025
             ),
+            stop_direction=(1.0, 0.0, 0.0),
             opposed=((THUMB, "index"), (THUMB, "middle")),
         ),
     )
