@@ -89,7 +89,9 @@ class HandDriver(ABC):
 
     @abstractmethod
     def palm_sensor(self) -> PalmSensorReading:
-        """The palm tactile sensor and first-contact detector."""
+        """The palm tactile sensor and first-contact detector: the touches since the
+        previous reading (a touch shorter than one control cycle is not lost), or the
+        current contacts when nothing touched in between. Reading it resets it."""
 
     @abstractmethod
     def T_world_palm(self) -> NDArray[np.float64]:

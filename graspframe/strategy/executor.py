@@ -216,6 +216,13 @@ def execute_plan(
         )
 
 
+def _moved(T: NDArray[np.float64], shift: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The pose T translated by `shift` [m] (world frame)."""
+    T_moved = T.copy()
+    T_moved[:3, 3] += shift
+    return T_moved
+
+
 def in_hand_motion(
     T_palm_object_ref: NDArray[np.float64], samples: list[NDArray[np.float64]]
 ) -> InHandMotion:
@@ -386,17 +393,13 @@ class _Execution:
         distance back from it, or, when the arm cannot reach that (a low goal near the
         arm's base), as far back as the hand just retreated. Returns that distance [m]."""
         a = self.plan.a_world
-        distances = (self.plan.pre_approach_distance, max(retreated, MIN_RETREAT))
-        for k, d_start in enumerate(distances):
-            T_start = T_world_palm_goal.copy()
-            T_start[:3, 3] -= d_start * a
-            try:
-                self.motion.move_palm_to(T_start)
-                return d_start
-            except MotionError:
-                if k == len(distances) - 1:
-                    raise
-        raise AssertionError("unreachable")  # the loop returns or raises
+        try:
+            d_start = self.plan.pre_approach_distance
+            self.motion.move_palm_to(_moved(T_world_palm_goal, -d_start * a))
+        except MotionError:
+            d_start = max(retreated, MIN_RETREAT)
+            self.motion.move_palm_to(_moved(T_world_palm_goal, -d_start * a))
+        return d_start
 
     def _back_off(self, gap: float) -> None:
         """Back the palm off the object it found by `gap` [m] along the approach, so the
