@@ -225,6 +225,13 @@ def _print_run_summary(result: dict) -> None:
         )
     elif "error" in score:
         console.print(f"virtual fingers: not scored ({score['error']})")
+    quality = score.get("quality") or {}
+    if quality:
+        eps = {who: (q or {}).get("epsilon_l1") for who, q in quality.items()}
+        console.print(
+            "grasp quality (Ferrari-Canny epsilon, L1): "
+            + ", ".join(f"{who} {_fmt_eps(e)}" for who, e in eps.items())
+        )
     console.print(f"result: {result['result_path']}")
     if result.get("snapshots"):
         console.print(f"pictures: {result['snapshots']}")
@@ -431,6 +438,10 @@ def main(argv: list[str] | None = None) -> int:
             )
         return EXIT_ERROR
     return 0
+
+
+def _fmt_eps(epsilon: float | None) -> str:
+    return "- (no contacts)" if epsilon is None else f"{epsilon:.3f}"
 
 
 def _console_script() -> None:

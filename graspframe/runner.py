@@ -20,6 +20,7 @@ from graspframe.errors import GraspframeError, InputError
 from graspframe.events import RunEvent, RunInfo
 from graspframe.grasps import HUMAN_HAND, PALM, HumanGrasp
 from graspframe.hal.drivers import WorldConfig
+from graspframe.metrics.quality import grasp_quality
 from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_contacts
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.registry import Registry, default_registry
@@ -358,6 +359,10 @@ def _execute(request, inputs, registry, recorder, result, progress):
     # A grasp turned about a symmetric object's axis is scored in the turned object frame.
     T_world_object_scored = outcome.T_world_object_at_hold @ make_T(plan.R_object_symmetry)
     result["score"] = _score(outcome, T_world_object_scored, reference, hand, human)
+    result["score"]["quality"] = {
+        "robot": _quality([c.in_frame(T_world_object_scored) for c in outcome.contacts], obj),
+        "human": _quality(list(reference.contacts), obj),
+    }
     recorder.emit(
         "score.done",
         score=result["score"],
@@ -427,6 +432,21 @@ def _outcome_dict(outcome: GraspOutcome) -> dict:
         "contacts_world": [c.to_dict() for c in outcome.contacts],
         "contacts_object": [c.in_frame(T_world_object).to_dict() for c in outcome.contacts],
     }
+
+
+def _quality(contacts_object, obj) -> dict | None:
+    """Ferrari-Canny L1 quality of contacts given in the object frame (None without
+    contacts): the object's static friction, torques about its centroid over its half
+    largest dimension (docs/method.md, "Grasp quality")."""
+    if not contacts_object:
+        return None
+    quality = grasp_quality(
+        [c.p_world for c in contacts_object],
+        [-np.asarray(c.n_world) for c in contacts_object],  # contact normals point out of it
+        obj.static_friction,
+        torque_length=obj.largest_dimension / 2,
+    )
+    return quality.to_dict()
 
 
 def _score(outcome: GraspOutcome, T_world_object, reference: HumanReference, hand, human) -> dict:

@@ -383,6 +383,13 @@ def test_result_json_holds_everything_to_reproduce_the_run(tmp_path):
     assert saved["outcome"]["contacts_object"]
     assert {"held_after_lift", "held_under_disturbance", "disturbance"} <= set(saved["outcome"])
     assert (Path(result["result_path"]).parent / "snapshots.png").is_file()
+    # Grasp quality of robot and human, from their contacts with the object's friction.
+    quality = saved["score"]["quality"]
+    assert quality["robot"]["n_contacts"] == len(saved["outcome"]["contacts_object"])
+    assert quality["robot"]["friction"] == REGISTRY.get_object("disc").static_friction
+    assert quality["human"]["n_contacts"] > 0
+    # The held disc is in force closure (three fingers round it, with friction).
+    assert quality["robot"]["force_closure"] and quality["robot"]["epsilon_l1"] > 0
 
 
 def test_a_backend_that_cannot_push_reports_the_disturbance_test_as_not_run(tmp_path, monkeypatch):
