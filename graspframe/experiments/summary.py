@@ -19,6 +19,8 @@ COLUMNS = (
     "A_orientation_err_deg",
     "A_robot_vf",
     "A_human_vf",
+    "A_robot_epsilon",
+    "A_human_epsilon",
     "B_trials",
     "B_successes",
     "B_held_after_lift",
@@ -69,6 +71,8 @@ def summarize(rows: list[dict]) -> list[dict]:
             "A_orientation_err_deg": a.get("orientation_err_deg"),
             "A_robot_vf": a.get("robot_vf"),
             "A_human_vf": a.get("human_vf"),
+            "A_robot_epsilon": a.get("robot_epsilon"),
+            "A_human_epsilon": a.get("human_epsilon"),
             "B_trials": len(b),
             "B_successes": sum(bool(t.get("success")) for t in b),
             "B_held_after_lift": sum(bool(t.get("held_after_lift")) for t in b),
@@ -85,13 +89,13 @@ def summarize(rows: list[dict]) -> list[dict]:
     return summary
 
 
-def _cell(value) -> str:
+def _cell(value, decimals: int = 1) -> str:
     if value is None:
         return "-"
     if isinstance(value, bool):
         return "yes" if value else "no"
     if isinstance(value, float):
-        return f"{value:.1f}"
+        return f"{value:.{decimals}f}"
     return str(value)
 
 
@@ -117,9 +121,10 @@ def write_tables(summary: list[dict], out_dir: Path) -> tuple[Path, Path]:
     size_headers = "".join(f" | A held at {int(c[1:])}%" for c in sizes)
     lines = [
         "| mount | hand | grasp | A held | A pos err [mm] | A ori err [deg] | A VF robot/human "
+        "| A epsilon robot/human "
         "| B held (lift) | B pos err [mm] | B ori err [deg] | B VF robot (mean)"
         f"{size_headers} | failures |",
-        "|---" * (12 + len(sizes)) + "|",
+        "|---" * (13 + len(sizes)) + "|",
     ]
     for r in summary:
         size_cells = "".join(
@@ -130,6 +135,7 @@ def write_tables(summary: list[dict], out_dir: Path) -> tuple[Path, Path]:
             f"| {_held(r['A_success'], r['A_held_after_lift'])} "
             f"| {_cell(r['A_position_err_mm'])} | {_cell(r['A_orientation_err_deg'])} "
             f"| {_cell(r['A_robot_vf'])}/{_cell(r['A_human_vf'])} "
+            f"| {_cell(r['A_robot_epsilon'], 3)}/{_cell(r['A_human_epsilon'], 3)} "
             f"| {r['B_successes']}/{r['B_trials']} ({r['B_held_after_lift']}) "
             f"| {_cell(r['B_position_err_mm'])} "
             f"| {_cell(r['B_orientation_err_deg'])} | {_cell(r['B_robot_vf_mean'])}"

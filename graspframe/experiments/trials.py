@@ -77,6 +77,7 @@ def run_trial(spec: TrialSpec) -> dict:
         return row
     outcome, score = result["outcome"], result.get("score", {})
     comparison = score.get("comparison") or {}
+    quality = score.get("quality") or {}
     row.update(
         status="ok",
         result_path=result["result_path"],
@@ -92,6 +93,8 @@ def run_trial(spec: TrialSpec) -> dict:
         robot_vf=comparison.get("robot_count"),
         human_vf=comparison.get("human_count"),
         score_error=score.get("error"),
+        robot_epsilon=(quality.get("robot") or {}).get("epsilon_l1"),
+        human_epsilon=(quality.get("human") or {}).get("epsilon_l1"),
         wall_time=time.perf_counter() - started,
     )
     return row
