@@ -227,10 +227,9 @@ def _print_run_summary(result: dict) -> None:
         console.print(f"virtual fingers: not scored ({score['error']})")
     quality = score.get("quality") or {}
     if quality:
-        eps = {who: (q or {}).get("epsilon_l1") for who, q in quality.items()}
         console.print(
             "grasp quality (Ferrari-Canny epsilon, L1): "
-            + ", ".join(f"{who} {_fmt_eps(e)}" for who, e in eps.items())
+            + ", ".join(f"{who} {_quality_text(q)}" for who, q in quality.items())
         )
     console.print(f"result: {result['result_path']}")
     if result.get("snapshots"):
@@ -440,8 +439,12 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
-def _fmt_eps(epsilon: float | None) -> str:
-    return "- (no contacts)" if epsilon is None else f"{epsilon:.3f}"
+def _quality_text(quality: dict | None) -> str:
+    if not quality:
+        return "- (no contacts)"
+    if "error" in quality:
+        return f"not computed ({quality['error']})"
+    return f"{quality['epsilon_l1']:.3f}"
 
 
 def _console_script() -> None:

@@ -440,12 +440,15 @@ def _quality(contacts_object, obj) -> dict | None:
     largest dimension (docs/method.md, "Grasp quality")."""
     if not contacts_object:
         return None
-    quality = grasp_quality(
-        [c.p_world for c in contacts_object],
-        [-np.asarray(c.n_world) for c in contacts_object],  # contact normals point out of it
-        obj.static_friction,
-        torque_length=obj.largest_dimension / 2,
-    )
+    try:
+        quality = grasp_quality(
+            [c.p_world for c in contacts_object],
+            [-np.asarray(c.n_world) for c in contacts_object],  # contact normals point out
+            obj.static_friction,
+            torque_length=obj.largest_dimension / 2,
+        )
+    except GraspframeError as exc:  # e.g. a measured contacts file without normals
+        return {"error": str(exc)}
     return quality.to_dict()
 
 
