@@ -470,7 +470,23 @@ def _score(outcome: GraspOutcome, T_world_object, reference: HumanReference, han
     except GraspframeError as exc:
         score["error"] = str(exc)
         return score
+    robot_object = [c.in_frame(T_world_object) for c in outcome.contacts]
     score.update(
-        robot=robot_vf.to_dict(), human=human_vf.to_dict(), comparison=comparison.to_dict()
+        robot=_with_contacts(robot_vf.to_dict(), robot_object),
+        human=_with_contacts(human_vf.to_dict(), list(reference.contacts)),
+        comparison=comparison.to_dict(),
     )
+    # Name the real fingers on each side of every matched pair.
+    for pair in score["comparison"]["pairs"]:
+        pair["robot_members"] = score["robot"]["virtual_fingers"][pair["robot_index"]]["members"]
+        pair["human_members"] = score["human"]["virtual_fingers"][pair["human_index"]]["members"]
     return score
+
+
+def _with_contacts(grasp: dict, contacts_object) -> dict:
+    """The virtual-finger dict with each virtual finger's contacts (object frame: p [m],
+    n, f [N]) listed under it, taken from the real fingers it is made of."""
+    for vf in grasp["virtual_fingers"]:
+        members = set(vf["members"])
+        vf["contacts"] = [c.to_dict() for c in contacts_object if c.real_finger in members]
+    return grasp

@@ -388,6 +388,17 @@ def test_result_json_holds_everything_to_reproduce_the_run(tmp_path):
     assert quality["robot"]["n_contacts"] == len(saved["outcome"]["contacts_object"])
     assert quality["robot"]["friction"] == REGISTRY.get_object("disc").static_friction
     assert quality["human"]["n_contacts"] > 0
+    # Which real fingers (and contacts) formed each virtual finger, on each side of
+    # every matched pair.
+    for side in ("robot", "human"):
+        for vf in saved["score"][side]["virtual_fingers"]:
+            fingers = {c["real_finger"] for c in vf["contacts"]}
+            assert vf["contacts"] and fingers == set(vf["members"])
+            assert len(vf["contacts"]) == vf["contact_count"]
+    for pair in saved["score"]["comparison"]["pairs"]:
+        robot_vf = saved["score"]["robot"]["virtual_fingers"][pair["robot_index"]]
+        assert pair["robot_members"] == robot_vf["members"]
+        assert pair["human_members"]
     # The held disc is in force closure (three fingers round it, with friction).
     assert quality["robot"]["force_closure"] and quality["robot"]["epsilon_l1"] > 0
 
