@@ -72,6 +72,9 @@ class SapienArmDriver(ArmDriver):
         return self._access.velocities()
 
 
+LATCH_WINDOW = 50  # [steps] the palm sensor latches this long after a reading (0.1 s)
+
+
 class SapienHandDriver(HandDriver):
     """Hand joints, couplings enforced by the controller (with breakaway), contacts.
 
@@ -82,7 +85,9 @@ class SapienHandDriver(HandDriver):
     commanding the leader back below the held angle releases it.
 
     The palm sensor latches: a touch in any physics step since the last reading is
-    reported (a brief knock on a light object lasts less than a control cycle).
+    reported (a brief knock on a light object lasts less than a control cycle). Reading
+    contacts every step costs about a third of a run, so the latch watches only while
+    the sensor is being polled (for LATCH_WINDOW steps after each reading).
     """
 
     def __init__(
@@ -116,6 +121,7 @@ class SapienHandDriver(HandDriver):
         # whether any step since then touched a palm link.
         self._first_touch: list[Contact] = []
         self._palm_touched_since_read = False
+        self._latch_steps_left = 0
 
     @property
     def joint_names(self) -> tuple[str, ...]:
@@ -203,6 +209,9 @@ class SapienHandDriver(HandDriver):
 
     def after_step(self) -> None:
         """Latch the touches of the physics step just taken for the palm sensor."""
+        if self._latch_steps_left <= 0:
+            return
+        self._latch_steps_left -= 1
         contacts = self.contacts()
         if contacts and not self._first_touch:
             self._first_touch = contacts
@@ -214,6 +223,7 @@ class SapienHandDriver(HandDriver):
         contacts = self._first_touch or self.contacts()
         on_palm = self._palm_touched_since_read or any(c.real_finger == PALM for c in contacts)
         self._first_touch, self._palm_touched_since_read = [], False
+        self._latch_steps_left = LATCH_WINDOW
         strongest = max(contacts, key=lambda c: np.linalg.norm(c.f_world), default=None)
         return PalmSensorReading(touched=bool(contacts), on_palm=on_palm, first_contact=strongest)
 
