@@ -10,16 +10,11 @@ reported as an event through `emit(kind, **data)`; "execute.snapshot" events car
 robot's joint values and the contacts at first contact, at the hold and after the lift,
 for pictures of the grasp.
 
-"Held" (docs/method.md#held): the object rises with a LIFT_HEIGHT lift (at least
-HELD_RISE_FRACTION of it) and stays within MAX_SHIFT_IN_HAND and MAX_TURN_IN_HAND_DEG of
-its pose in the hand at the hold; then, while a force of DISTURBANCE_FRACTION of its
-weight pushes it for DISTURBANCE_TIME along each of +x, -x, +y, -y, +z, -z (world, one
-after the other), it stays within the same bounds of its pose in the hand after the lift.
+"Held": the held test of held_test.py (docs/method.md#held), after the hold.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -33,8 +28,10 @@ from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import World
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
+from graspframe.strategy import held_test
+from graspframe.strategy.held_test import LIFT_HEIGHT, LIFT_SPEED, InHandMotion
 from graspframe.strategy.planner import GraspPlan
-from graspframe.transforms import inv_T, rotation_angle
+from graspframe.transforms import inv_T
 
 ALPHA_START = 0.5  # [-] first weight of the contact point in the goal correction
 MAX_CORRECTIONS = 4  # goal corrections of a volar approach (finger first, or off-centre)
@@ -54,22 +51,6 @@ APPROACH_OVERSHOOT = 0.07  # [m]
 CLOSE_TIME_LIMIT = 2.0  # [s]
 SETTLED_SPEED = 0.05  # [rad/s] the hand counts as closed when no joint moves faster
 HOLD_TIME = 0.5  # [s]
-LIFT_HEIGHT = 0.05  # [m]
-LIFT_SPEED = 0.05  # [m/s]
-HELD_RISE_FRACTION = 0.8  # the object must rise by at least this part of the lift
-MAX_SHIFT_IN_HAND = 0.02  # [m] largest displacement of the object in the palm frame
-MAX_TURN_IN_HAND_DEG = 15.0  # [deg] largest rotation of the object in the palm frame
-DISTURBANCE_FRACTION = 0.5  # of the object's weight
-DISTURBANCE_TIME = 0.5  # [s] per direction
-GRAVITY = 9.81  # [m/s^2]
-DISTURBANCE_DIRECTIONS = {
-    "+x": (1.0, 0.0, 0.0),
-    "-x": (-1.0, 0.0, 0.0),
-    "+y": (0.0, 1.0, 0.0),
-    "-y": (0.0, -1.0, 0.0),
-    "+z": (0.0, 0.0, 1.0),
-    "-z": (0.0, 0.0, -1.0),
-}
 MIN_FINGERS = 2  # real fingers (the palm counts as one) that must touch for a grasp
 
 
@@ -88,22 +69,6 @@ class ExecutorParams:
     lift_height: float = LIFT_HEIGHT
     lift_speed: float = LIFT_SPEED
     disturb: bool = True
-
-
-@dataclass(frozen=True)
-class InHandMotion:
-    """How far the object moved in the palm frame from a reference pose: shift [m] and
-    turn [deg] (the largest seen over the samples)."""
-
-    shift: float
-    turn_deg: float
-
-    @property
-    def within_bounds(self) -> bool:
-        return self.shift <= MAX_SHIFT_IN_HAND and self.turn_deg <= MAX_TURN_IN_HAND_DEG
-
-    def to_dict(self) -> dict:
-        return {"shift_mm": 1000.0 * self.shift, "turn_deg": self.turn_deg}
 
 
 @dataclass
@@ -155,25 +120,9 @@ class GraspOutcome:
         if len(fingers) < MIN_FINGERS:
             return f"only {', '.join(fingers)} touched the object; a grasp needs {MIN_FINGERS}"
         if not self.held_after_lift:
-            moved = ""
-            if self.lift_motion is not None and not self.lift_motion.within_bounds:
-                moved = (
-                    f"; it moved {1000 * self.lift_motion.shift:.0f} mm and "
-                    f"{self.lift_motion.turn_deg:.0f} deg in the hand"
-                )
-            return (
-                f"the object slipped during the lift: it rose {1000 * self.object_rise:.0f} mm "
-                f"of the hand's {1000 * self.lift_height:.0f} mm{moved}"
-            )
+            return held_test.lift_failure(self.object_rise, self.lift_height, self.lift_motion)
         if self.held_under_disturbance is False:
-            failed = {d: m for d, m in self.disturbance.items() if not m.within_bounds}
-            direction, motion = next(iter(failed.items()))
-            return (
-                f"the object slipped under the disturbance: pushed along {direction} with half "
-                f"its weight it moved {1000 * motion.shift:.0f} mm and {motion.turn_deg:.0f} deg "
-                f"in the hand (allowed {1000 * MAX_SHIFT_IN_HAND:.0f} mm, "
-                f"{MAX_TURN_IN_HAND_DEG:.0f} deg)"
-            )
+            return held_test.disturbance_failure(self.disturbance)
         return None
 
 
@@ -221,16 +170,6 @@ def _moved(T: NDArray[np.float64], shift: NDArray[np.float64]) -> NDArray[np.flo
     T_moved = T.copy()
     T_moved[:3, 3] += shift
     return T_moved
-
-
-def in_hand_motion(
-    T_palm_object_ref: NDArray[np.float64], samples: list[NDArray[np.float64]]
-) -> InHandMotion:
-    """The largest shift [m] and turn [deg] of the object in the palm frame over
-    `samples` (T_palm_object poses), from the reference pose."""
-    shift = max(float(np.linalg.norm(T[:3, 3] - T_palm_object_ref[:3, 3])) for T in samples)
-    turn = max(math.degrees(rotation_angle(T[:3, :3], T_palm_object_ref[:3, :3])) for T in samples)
-    return InHandMotion(shift, turn)
 
 
 @dataclass
@@ -431,61 +370,35 @@ class _Execution:
         )
 
     def _lift(self, outcome: GraspOutcome) -> None:
-        world, p = self.world, self.p
-        T_palm_object_hold = self._T_palm_object()
-        samples: list[NDArray[np.float64]] = []
-        self.motion.move_palm_linear(
-            np.array([0.0, 0.0, 1.0]),
-            p.lift_height,
-            p.lift_speed,
-            stop_on_contact=False,
-            each_cycle=lambda: samples.append(self._T_palm_object()),
+        result = held_test.lift(
+            self.world, self.motion, self.p.lift_height, self.p.lift_speed, self.p.hold_time
         )
-        settle = round(p.hold_time / world.timestep)
-        for _ in range(max(1, settle // 10)):
-            world.step(10)
-            samples.append(self._T_palm_object())
-        rise = float(world.object.T_world_object()[2, 3] - outcome.T_world_object_at_hold[2, 3])
-        outcome.object_rise = rise
-        outcome.lift_motion = in_hand_motion(T_palm_object_hold, samples)
-        outcome.held_after_lift = (
-            rise >= HELD_RISE_FRACTION * p.lift_height and outcome.lift_motion.within_bounds
-        )
-        contacts = world.hand.contacts()
-        outcome.fingers_after_lift = sorted({c.real_finger for c in contacts})
+        outcome.object_rise = result.object_rise
+        outcome.lift_motion = result.motion
+        outcome.held_after_lift = result.held
+        outcome.fingers_after_lift = sorted({c.real_finger for c in result.contacts})
         self.emit(
             "execute.lift",
-            object_rise=rise,
-            held=outcome.held_after_lift,
+            object_rise=result.object_rise,
+            held=result.held,
             fingers=outcome.fingers_after_lift,
-            **outcome.lift_motion.to_dict(),
+            **result.motion.to_dict(),
         )
-        self._snapshot("after lift", contacts)
+        self._snapshot("after lift", result.contacts)
 
     def _disturb(self, outcome: GraspOutcome) -> None:
         """Push the object with half its weight along each world axis in turn."""
-        world = self.world
-        T_palm_object_ref = self._T_palm_object()
-        force = DISTURBANCE_FRACTION * self.obj.mass * GRAVITY
-        check_every = max(1, round(0.02 / world.timestep))
         try:
-            for label, direction in DISTURBANCE_DIRECTIONS.items():
-                world.object.apply_force(force * np.asarray(direction))
-                samples = []
-                for _ in range(max(1, round(DISTURBANCE_TIME / (check_every * world.timestep)))):
-                    world.step(check_every)
-                    samples.append(self._T_palm_object())
-                world.object.apply_force(None)
-                outcome.disturbance[label] = in_hand_motion(T_palm_object_ref, samples)
+            outcome.disturbance = held_test.disturb(self.world, self.obj)
         except NotImplementedError as exc:
             outcome.disturbance_skipped = str(exc)
             outcome.disturbance.clear()
             self.emit("execute.disturbance", skipped=str(exc))
             return
-        outcome.held_under_disturbance = all(m.within_bounds for m in outcome.disturbance.values())
+        outcome.held_under_disturbance = held_test.first_slip(outcome.disturbance) is None
         self.emit(
             "execute.disturbance",
-            force=force,
+            force=held_test.disturbance_force(self.obj),
             held=outcome.held_under_disturbance,
             motion={d: m.to_dict() for d, m in outcome.disturbance.items()},
         )

@@ -1,10 +1,14 @@
 """Human reference grasps: the contacts of the human hand performing a grasp on an object.
 
-By default they are simulated: the free-floating human hand is placed at the reference
-palm pose for the grasp (reference_poses.py), takes the grasp's open posture and closes
-towards its closed posture until its fingers stop on the object. Results are cached per
-(grasp, object, model) in the cache folder. Measured human contacts can replace them: a
-JSON file in the format below (docs/method.md shows an example).
+By default they are simulated: the human hand, on the floating base (floating_base.py),
+takes the grasp's open posture back from its reference palm pose (reference_poses.py),
+approaches that pose along the palm normal and closes towards its closed posture until its
+fingers stop on the object. Its contacts at the hold are the reference. The grasp then
+goes through the robots' held test (held_test.py): a reference that does not hold says
+so (`HumanReference.held`), and the run reports it. Results are cached per (grasp,
+object, model) in the cache folder. Measured human contacts can replace them: a JSON file
+in the format below (docs/method.md shows an example); they are taken as given (no held
+test).
 
     {
       "format": "graspframe.human_contacts/1",
@@ -23,7 +27,6 @@ the object [N].
 from __future__ import annotations
 
 import hashlib
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -31,25 +34,58 @@ import numpy as np
 
 from graspframe.contacts import Contact
 from graspframe.errors import InputError
+from graspframe.floating_base import T_world_base_for, floating_base
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import Backend, WorldConfig
 from graspframe.hal.objects import ObjectDescription
-from graspframe.mounting import cache_dir
-from graspframe.results import read_json_file
+from graspframe.motion.arm_motion import ArmMotion
+from graspframe.mounting import cache_dir, mount
+from graspframe.results import read_json_file, write_json
+from graspframe.robot_model import CollisionModel
+from graspframe.snapshots import Snapshot, SnapshotScene, draw_snapshots
+from graspframe.strategy import held_test
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 
 FORMAT = "graspframe.human_contacts/1"
 # Part of the cache key: bump it when the way references are simulated changes.
-PROCEDURE_VERSION = 2
+PROCEDURE_VERSION = 3
 SETTLE_TIME = 1.0  # [s] after the slowest joint could have reached its closed target
-# The hand takes its open posture this far back along its palm normal, then approaches
-# in small kinematic steps (it floats: its pose is set, not driven).
+# The hand takes its open posture this far back along its palm normal, then approaches.
 APPROACH_DISTANCE = 0.08  # [m]
-APPROACH_STEP = 0.0005  # [m] per physics step
+APPROACH_SPEED = 0.05  # [m/s], the robots' non-volar approach speed
 # Where the object stands in the reference world (the hand floats, so any place works).
 T_WORLD_OBJECT_XY = (0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class HeldVerdict:
+    """The held test of a simulated human grasp.
+
+    under_disturbance: None when the disturbance test did not run (the lift failed, or
+    the backend cannot push). failure: why it did not hold, in words (None: it held).
+    """
+
+    after_lift: bool
+    under_disturbance: bool | None
+    failure: str | None
+
+    @property
+    def held(self) -> bool:
+        return self.failure is None and self.after_lift
+
+    def to_dict(self) -> dict:
+        return {
+            "held": self.held,
+            "held_after_lift": self.after_lift,
+            "held_under_disturbance": self.under_disturbance,
+            "failure": self.failure,
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict) -> HeldVerdict:
+        return cls(bool(data["held_after_lift"]), data["held_under_disturbance"], data["failure"])
 
 
 @dataclass(frozen=True)
@@ -57,25 +93,30 @@ class HumanReference:
     """Human contacts for one grasp on one object, in the object frame.
 
     source: "simulated", "cache" or the path of a measured-contacts file.
+    held: the held test of the simulated grasp; None for measured contacts (not tested).
     """
 
     grasp: HumanGrasp
     object_name: str
     contacts: tuple[Contact, ...]
     source: str
+    held: HeldVerdict | None = None
 
     @property
     def touching_fingers(self) -> list[str]:
         return sorted({c.real_finger for c in self.contacts})
 
     def to_json(self) -> dict:
-        return {
+        data = {
             "format": FORMAT,
             "grasp": self.grasp.value,
             "object": self.object_name,
             "frame": "object",
             "contacts": [c.to_dict() for c in self.contacts],
         }
+        if self.held is not None:
+            data["held_test"] = self.held.to_dict()
+        return data
 
 
 def load_reference_file(path: Path | str) -> HumanReference:
@@ -111,40 +152,107 @@ def load_reference_file(path: Path | str) -> HumanReference:
     return HumanReference(grasp, str(data.get("object", "")), tuple(contacts), str(path))
 
 
-def simulate_human_grasp(
-    grasp: HumanGrasp, obj: ObjectDescription, human: HandDescription, backend: Backend
-) -> HumanReference:
-    """Perform the grasp with the free-floating human hand and read its contacts.
+def _load_cached(path: Path, obj: ObjectDescription) -> HumanReference:
+    """A reference this module wrote to the cache, its held test included."""
+    cached = load_reference_file(path)
+    held = HeldVerdict.from_dict(read_json_file(path, "cached human reference")["held_test"])
+    return HumanReference(cached.grasp, obj.name, cached.contacts, "cache", held)
 
-    The hand approaches its reference palm pose along the palm normal from
-    APPROACH_DISTANCE back, then closes."""
+
+def simulate_human_grasp(
+    grasp: HumanGrasp,
+    obj: ObjectDescription,
+    human: HandDescription,
+    backend: Backend,
+    picture: Path | None = None,
+) -> HumanReference:
+    """Perform the grasp with the human hand on the floating base, read its contacts at
+    the hold, then run the robots' held test (lift, disturbance) on it.
+
+    The hand shapes its open posture APPROACH_DISTANCE back along the palm normal from its
+    reference palm pose, approaches that pose, closes until its fingers stop on the
+    object, holds, and is lifted. picture: also draw the hand at the hold and after the
+    lift (snapshots.py) to this PNG."""
     posture = human.preshape_for(grasp)
     T_world_object = make_T(p=[*T_WORLD_OBJECT_XY, obj.half_height])
-    world = backend.create_world(
-        WorldConfig(hand=human, arm=None, object=obj, T_world_object=T_world_object)
+    T_world_palm = T_world_object @ reference_placement(obj, posture).T_object_palm
+    z_palm = T_world_palm[:3, 2]
+    T_world_palm_start = T_world_palm.copy()
+    T_world_palm_start[:3, 3] -= APPROACH_DISTANCE * z_palm
+    robot = mount(floating_base(), human)
+    T_flange_palm = CollisionModel(human.model_path).T_root_frame(human.palm_frame)
+    config = WorldConfig(
+        hand=human,
+        arm=robot.arm,
+        object=obj,
+        T_flange_hand=robot.T_flange_hand,
+        T_world_arm_base=T_world_base_for(T_world_palm_start, T_flange_palm),
+        T_world_object=T_world_object,
     )
-    with world:
-        T_world_palm = T_world_object @ reference_placement(obj, posture).T_object_palm
-        # Shape the open posture away from the object, then approach along the palm
-        # normal to the reference pose: the posture leaves the object room to come in.
-        z_palm = T_world_palm[:3, 2]
-        T_start = T_world_palm.copy()
-        T_start[:3, 3] -= APPROACH_DISTANCE * z_palm
-        world.hand.set_free_pose(T_start)
+    moments: list[Snapshot] = []
+    with backend.create_world(config) as world:
+        motion = ArmMotion(world, robot, config.T_world_arm_base)
         world.hand.set_joint_targets(posture.open_q)
         world.step(round((_travel_time(human, {}, posture.open_q) + 0.2) / world.timestep))
-        steps = round(APPROACH_DISTANCE / APPROACH_STEP)
-        for k in range(1, steps + 1):
-            T = T_start.copy()
-            T[:3, 3] += k * APPROACH_STEP * z_palm
-            world.hand.set_free_pose(T)
-            world.step(1)
+        motion.move_palm_linear(z_palm, APPROACH_DISTANCE, APPROACH_SPEED, stop_on_contact=False)
         world.hand.set_joint_targets(posture.closed_q)
         travel_time = _travel_time(human, posture.open_q, posture.closed_q)
         world.step(round((travel_time + SETTLE_TIME) / world.timestep))
-        T_world_object_now = world.object.T_world_object()
-        contacts = tuple(c.in_frame(T_world_object_now) for c in world.hand.contacts())
-    return HumanReference(grasp, obj.name, contacts, "simulated")
+        hold_contacts = world.hand.contacts()
+        T_world_object_at_hold = world.object.T_world_object()
+        moments.append(_snapshot("hold", world, hold_contacts))
+        held = _held_test(world, motion, obj)
+        moments.append(_snapshot("after lift and pushes", world, world.hand.contacts()))
+    contacts = tuple(c.in_frame(T_world_object_at_hold) for c in hold_contacts)
+    reference = HumanReference(grasp, obj.name, contacts, "simulated", held)
+    if picture is not None:
+        _draw(picture, reference, robot, config, moments)
+    return reference
+
+
+def _snapshot(label: str, world, contacts: list[Contact]) -> Snapshot:
+    q = dict(world.hand.joint_positions())
+    q.update(zip(world.arm.joint_names, world.arm.joint_positions(), strict=True))
+    return Snapshot(
+        label=label,
+        q_by_joint=q,
+        T_world_object=world.object.T_world_object(),
+        contact_points_world=np.array([c.p_world for c in contacts]).reshape(-1, 3),
+        contact_fingers=[c.real_finger for c in contacts],
+    )
+
+
+def _draw(
+    path: Path, reference: HumanReference, robot, config: WorldConfig, moments: list[Snapshot]
+) -> None:
+    human = config.hand
+    scene = SnapshotScene(
+        urdf_path=robot.urdf_path,
+        T_world_root=config.T_world_arm_base,
+        palm_frame=human.palm_frame,
+        finger_of_link=human.finger_of_link(),
+        joint_followers=human.with_model_followers,
+        object_shape=config.object.shape,
+        object_dimensions=config.object.dimensions,
+        table_height=config.table_height,
+    )
+    verdict = "held" if reference.held.held else f"not held: {reference.held.failure}"
+    title = f"human {reference.grasp.value}, {reference.object_name}; {verdict}"
+    draw_snapshots(path, scene, moments, title)
+
+
+def _held_test(world, motion: ArmMotion, obj: ObjectDescription) -> HeldVerdict:
+    """The robots' held test on the human grasp now in `world`."""
+    lifted = held_test.lift(world, motion)
+    if not lifted.held:
+        failure = held_test.lift_failure(lifted.object_rise, held_test.LIFT_HEIGHT, lifted.motion)
+        return HeldVerdict(after_lift=False, under_disturbance=None, failure=failure)
+    try:
+        pushed = held_test.disturb(world, obj)
+    except NotImplementedError:
+        return HeldVerdict(after_lift=True, under_disturbance=None, failure=None)
+    failure = held_test.disturbance_failure(pushed)
+    return HeldVerdict(after_lift=True, under_disturbance=failure is None, failure=failure)
 
 
 def _travel_time(hand: HandDescription, q_from: dict, q_to: dict) -> float:
@@ -179,12 +287,9 @@ def human_reference(
     """The simulated human reference, from the cache when it holds it."""
     path = cache_dir().parent / "human_references" / f"{_cache_key(grasp, obj, human)}.json"
     if use_cache and path.is_file():
-        cached = load_reference_file(path)
-        return HumanReference(cached.grasp, obj.name, cached.contacts, "cache")
+        return _load_cached(path, obj)
     reference = simulate_human_grasp(grasp, obj, human, backend)
     if reference.contacts:
         path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(".tmp")
-        tmp.write_text(json.dumps(reference.to_json(), indent=1))
-        tmp.replace(path)
+        write_json(path, reference.to_json())
     return reference
