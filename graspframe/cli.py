@@ -189,7 +189,7 @@ def _tested(value: bool | None) -> str:
 
 
 def _print_run_summary(result: dict) -> None:
-    from graspframe.strategy.executor import LIFT_HEIGHT
+    from graspframe.strategy.held_test import LIFT_HEIGHT
 
     plan, outcome, score = result["plan"], result["outcome"], result.get("score", {})
     classification = result.get("classification")
@@ -225,6 +225,12 @@ def _print_run_summary(result: dict) -> None:
         )
     elif "error" in score:
         console.print(f"virtual fingers: not scored ({score['error']})")
+    human_held = score.get("human_held_test")
+    if human_held and not human_held["held"]:
+        console.print(
+            f"[yellow]the human reference does not hold:[/yellow] {human_held['failure']} "
+            "(scored against it all the same)"
+        )
     quality = score.get("quality") or {}
     if quality:
         console.print(

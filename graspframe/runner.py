@@ -457,6 +457,8 @@ def _score(outcome: GraspOutcome, T_world_object, reference: HumanReference, han
     score: dict = {
         "human_source": reference.source,
         "human_touching_fingers": reference.touching_fingers,
+        # The simulated human grasp's own held test; None for measured contacts.
+        "human_held_test": None if reference.held is None else reference.held.to_dict(),
     }
     try:
         robot_vf = virtual_fingers_from_contacts(outcome.contacts, T_world_object)

@@ -21,6 +21,9 @@ COLUMNS = (
     "A_human_vf",
     "A_robot_epsilon",
     "A_human_epsilon",
+    "A_robot_volume",
+    "A_human_volume",
+    "A_human_held",
     "B_trials",
     "B_successes",
     "B_held_after_lift",
@@ -73,6 +76,9 @@ def summarize(rows: list[dict]) -> list[dict]:
             "A_human_vf": a.get("human_vf"),
             "A_robot_epsilon": a.get("robot_epsilon"),
             "A_human_epsilon": a.get("human_epsilon"),
+            "A_robot_volume": a.get("robot_volume"),
+            "A_human_volume": a.get("human_volume"),
+            "A_human_held": a.get("human_held"),
             "B_trials": len(b),
             "B_successes": sum(bool(t.get("success")) for t in b),
             "B_held_after_lift": sum(bool(t.get("held_after_lift")) for t in b),
@@ -99,6 +105,19 @@ def _cell(value, decimals: int = 1) -> str:
     return str(value)
 
 
+def _b_held(row: dict) -> str:
+    """ "n/N (m)": held in n of N B trials, held after the lift in m; "-" without B."""
+    if not row["B_trials"]:
+        return "-"
+    return f"{row['B_successes']}/{row['B_trials']} ({row['B_held_after_lift']})"
+
+
+def _volume(value) -> str:
+    """A wrench-space volume: small numbers of very different sizes, so 2 significant
+    digits."""
+    return "-" if value is None else f"{value:.2g}"
+
+
 def _held(success, after_lift) -> str:
     """ "yes", "no" (not even after the lift) or "lift only" (slipped when pushed)."""
     if success is None:
@@ -121,10 +140,10 @@ def write_tables(summary: list[dict], out_dir: Path) -> tuple[Path, Path]:
     size_headers = "".join(f" | A held at {int(c[1:])}%" for c in sizes)
     lines = [
         "| mount | hand | grasp | A held | A pos err [mm] | A ori err [deg] | A VF robot/human "
-        "| A epsilon robot/human "
+        "| A epsilon robot/human | A volume robot/human | A human held "
         "| B held (lift) | B pos err [mm] | B ori err [deg] | B VF robot (mean)"
         f"{size_headers} | failures |",
-        "|---" * (13 + len(sizes)) + "|",
+        "|---" * (15 + len(sizes)) + "|",
     ]
     for r in summary:
         size_cells = "".join(
@@ -136,7 +155,9 @@ def write_tables(summary: list[dict], out_dir: Path) -> tuple[Path, Path]:
             f"| {_cell(r['A_position_err_mm'])} | {_cell(r['A_orientation_err_deg'])} "
             f"| {_cell(r['A_robot_vf'])}/{_cell(r['A_human_vf'])} "
             f"| {_cell(r['A_robot_epsilon'], 3)}/{_cell(r['A_human_epsilon'], 3)} "
-            f"| {r['B_successes']}/{r['B_trials']} ({r['B_held_after_lift']}) "
+            f"| {_volume(r['A_robot_volume'])}/{_volume(r['A_human_volume'])} "
+            f"| {_cell(r['A_human_held'])} "
+            f"| {_b_held(r)} "
             f"| {_cell(r['B_position_err_mm'])} "
             f"| {_cell(r['B_orientation_err_deg'])} | {_cell(r['B_robot_vf_mean'])}"
             f"{size_cells} | {r['failures']} |"
@@ -145,14 +166,19 @@ def write_tables(summary: list[dict], out_dir: Path) -> tuple[Path, Path]:
         "",
         "held: lifted 5 cm and kept in the hand while pushed along +-x, +-y, +-z with half "
         "the object's weight; 'lift only': lifted, then slipped when pushed. "
-        "B held (lift): held in n of the directions (held after the lift in m).",
+        "B held (lift): held in n of the directions (held after the lift in m). "
+        "epsilon, volume: Ferrari-Canny L1 grasp quality and grasp wrench space volume "
+        "(docs/method.md); A human held: the simulated human reference grasp passes the "
+        "same held test.",
     ]
     md_path.write_text("\n".join(lines) + "\n")
     return csv_path, md_path
 
 
 def plot_summary(summary: list[dict], path: Path) -> Path:
-    """Per-grasp bars of position and orientation error, both hands, A beside B."""
+    """Per-grasp bars, both hands: position and orientation error of the virtual fingers
+    (A beside B), and the Ferrari-Canny epsilon of experiment A, robot bars beside the
+    human reference's (a black tick per grasp: the same object for every hand)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -161,33 +187,71 @@ def plot_summary(summary: list[dict], path: Path) -> Path:
     grasps = list(dict.fromkeys(r["grasp"] for r in summary))
     hands = list(dict.fromkeys((r["mount"], r["hand"]) for r in summary))
     by_key = {(r["mount"], r["hand"], r["grasp"]): r for r in summary}
-    series = [(h, c) for h in hands for c in ("A", "B")]
-    width = 0.8 / len(series)
     x = np.arange(len(grasps))
-    fig, axes = plt.subplots(2, 1, figsize=(10, 7), sharex=True)
+    fig, axes = plt.subplots(3, 1, figsize=(10, 10), sharex=True)
+    # One colour per hand and mount in every panel; B hatched, and left out when no B ran.
+    colour = {h: f"C{i % 10}" for i, h in enumerate(hands)}
+    conditions = ("A", "B") if any(r["B_trials"] for r in summary) else ("A",)
+    series = [(h, c) for h in hands for c in conditions]
     for ax, metric, label in (
         (axes[0], "position_err_mm", "position error [mm]"),
         (axes[1], "orientation_err_deg", "orientation error [deg]"),
     ):
         for i, ((mount, hand), condition) in enumerate(series):
             values = [by_key.get((mount, hand, g), {}).get(f"{condition}_{metric}") for g in grasps]
-            heights = [v if v is not None else 0.0 for v in values]
-            bars = ax.bar(
-                x + (i - (len(series) - 1) / 2) * width,
-                heights,
-                width,
-                label=f"{hand} ({mount}) {condition}",
-                hatch="//" if condition == "B" else None,
+            _bars(
+                ax,
+                x,
+                i,
+                len(series),
+                values,
+                f"{hand} ({mount}) {condition}",
+                colour[mount, hand],
+                condition == "B",
             )
-            for bar, value in zip(bars, values, strict=True):
-                if value is None:  # not scored: mark it rather than draw a zero
-                    ax.annotate("x", (bar.get_x() + bar.get_width() / 2, 0), ha="center")
         ax.set_ylabel(label)
-        ax.grid(axis="y", alpha=0.3)
     axes[0].legend(ncols=min(4, len(series)), fontsize="small")
-    axes[1].set_xticks(x, grasps, rotation=20)
-    fig.suptitle("Virtual-finger errors, robot vs human: A perfect perception, B object error")
+    ax = axes[2]
+    for i, (mount, hand) in enumerate(hands):
+        values = [by_key.get((mount, hand, g), {}).get("A_robot_epsilon") for g in grasps]
+        _bars(ax, x, i, len(hands), values, f"{hand} ({mount})", colour[mount, hand], False)
+    human = [next((r["A_human_epsilon"] for r in summary if r["grasp"] == g), None) for g in grasps]
+    ax.hlines(
+        [v if v is not None else np.nan for v in human],
+        x - 0.45,
+        x + 0.45,
+        colors="black",
+        linewidth=2,
+        label="human reference",
+    )
+    ax.set_ylabel("epsilon (L1), experiment A")
+    ax.legend(ncols=min(4, len(hands) + 1), fontsize="small")
+    axes[-1].set_xticks(x, grasps, rotation=20)
+    for ax in axes:
+        ax.grid(axis="y", alpha=0.3)
+    fig.suptitle(
+        "Robot vs human: virtual-finger errors (A perfect perception, B object error) "
+        "and grasp quality"
+    )
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
     return path
+
+
+def _bars(ax, x, index: int, count: int, values, label: str, colour: str, hatched: bool) -> None:
+    """One series of bars at slot `index` of `count` per group; a value that was not
+    computed is marked "x" rather than drawn as a zero."""
+    width = 0.8 / count
+    heights = [v if v is not None else 0.0 for v in values]
+    bars = ax.bar(
+        x + (index - (count - 1) / 2) * width,
+        heights,
+        width,
+        label=label,
+        color=colour,
+        hatch="//" if hatched else None,
+    )
+    for bar, value in zip(bars, values, strict=True):
+        if value is None:
+            ax.annotate("x", (bar.get_x() + bar.get_width() / 2, 0), ha="center")

@@ -95,6 +95,9 @@ def run_trial(spec: TrialSpec) -> dict:
         score_error=score.get("error"),
         robot_epsilon=(quality.get("robot") or {}).get("epsilon_l1"),
         human_epsilon=(quality.get("human") or {}).get("epsilon_l1"),
+        robot_volume=(quality.get("robot") or {}).get("volume_l1"),
+        human_volume=(quality.get("human") or {}).get("volume_l1"),
+        human_held=(score.get("human_held_test") or {}).get("held"),
         wall_time=time.perf_counter() - started,
     )
     return row
