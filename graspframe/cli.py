@@ -240,6 +240,8 @@ def _print_run_summary(result: dict) -> None:
     console.print(f"result: {result['result_path']}")
     if result.get("snapshots"):
         console.print(f"pictures: {result['snapshots']}")
+    if result.get("human_reference_picture"):
+        console.print(f"human reference: {result['human_reference_picture']}")
     if result.get("recording"):
         console.print(
             f"recording: {result['recording']}  (graspframe review {result['recording']})"

@@ -8,6 +8,7 @@ grasp straight ahead would point the flange along the forearm, a wrist singulari
 from __future__ import annotations
 
 import logging
+import shutil
 import time
 import traceback
 from collections.abc import Callable
@@ -359,6 +360,11 @@ def _execute(request, inputs, registry, recorder, result, progress):
     # A grasp turned about a symmetric object's axis is scored in the turned object frame.
     T_world_object_scored = outcome.T_world_object_at_hold @ make_T(plan.R_object_symmetry)
     result["score"] = _score(outcome, T_world_object_scored, reference, hand, human)
+    if reference.picture is not None:
+        # The human grasp's picture beside the robot's snapshots.png.
+        picture = Path(recorder.run.out_dir) / "human_reference.png"
+        shutil.copyfile(reference.picture, picture)
+        result["human_reference_picture"] = str(picture)
     result["score"]["quality"] = {
         "robot": _quality([c.in_frame(T_world_object_scored) for c in outcome.contacts], obj),
         "human": _quality(list(reference.contacts), obj),

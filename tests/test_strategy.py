@@ -383,6 +383,7 @@ def test_result_json_holds_everything_to_reproduce_the_run(tmp_path):
     assert saved["outcome"]["contacts_object"]
     assert {"held_after_lift", "held_under_disturbance", "disturbance"} <= set(saved["outcome"])
     assert (Path(result["result_path"]).parent / "snapshots.png").is_file()
+    assert Path(saved["human_reference_picture"]).is_file()  # the human grasp, drawn
     # Grasp quality of robot and human, from their contacts with the object's friction.
     quality = saved["score"]["quality"]
     assert quality["robot"]["n_contacts"] == len(saved["outcome"]["contacts_object"])

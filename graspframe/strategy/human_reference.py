@@ -94,6 +94,7 @@ class HumanReference:
 
     source: "simulated", "cache" or the path of a measured-contacts file.
     held: the held test of the simulated grasp; None for measured contacts (not tested).
+    picture: a PNG of the simulated grasp at the hold and after the lift (None: not drawn).
     """
 
     grasp: HumanGrasp
@@ -101,6 +102,7 @@ class HumanReference:
     contacts: tuple[Contact, ...]
     source: str
     held: HeldVerdict | None = None
+    picture: Path | None = None
 
     @property
     def touching_fingers(self) -> list[str]:
@@ -153,10 +155,18 @@ def load_reference_file(path: Path | str) -> HumanReference:
 
 
 def _load_cached(path: Path, obj: ObjectDescription) -> HumanReference:
-    """A reference this module wrote to the cache, its held test included."""
+    """A reference this module wrote to the cache, its held test and picture included."""
     cached = load_reference_file(path)
     held = HeldVerdict.from_dict(read_json_file(path, "cached human reference")["held_test"])
-    return HumanReference(cached.grasp, obj.name, cached.contacts, "cache", held)
+    picture = path.with_suffix(".png")
+    return HumanReference(
+        cached.grasp,
+        obj.name,
+        cached.contacts,
+        "cache",
+        held,
+        picture if picture.is_file() else None,
+    )
 
 
 def simulate_human_grasp(
@@ -204,7 +214,7 @@ def simulate_human_grasp(
         held = _held_test(world, motion, obj)
         moments.append(_snapshot("after lift and pushes", world, world.hand.contacts()))
     contacts = tuple(c.in_frame(T_world_object_at_hold) for c in hold_contacts)
-    reference = HumanReference(grasp, obj.name, contacts, "simulated", held)
+    reference = HumanReference(grasp, obj.name, contacts, "simulated", held, picture)
     if picture is not None:
         _draw(picture, reference, robot, config, moments)
     return reference
@@ -284,12 +294,12 @@ def human_reference(
     backend: Backend,
     use_cache: bool = True,
 ) -> HumanReference:
-    """The simulated human reference, from the cache when it holds it."""
+    """The simulated human reference with its picture, from the cache when it holds it."""
     path = cache_dir().parent / "human_references" / f"{_cache_key(grasp, obj, human)}.json"
     if use_cache and path.is_file():
         return _load_cached(path, obj)
-    reference = simulate_human_grasp(grasp, obj, human, backend)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    reference = simulate_human_grasp(grasp, obj, human, backend, picture=path.with_suffix(".png"))
     if reference.contacts:
-        path.parent.mkdir(parents=True, exist_ok=True)
         write_json(path, reference.to_json())
     return reference
