@@ -147,8 +147,9 @@ _POSTURES_DEG = {
         },
         0.0519,
     ),
-    # Handle, diameter 25 mm, across the distal palm: fingers hooked, closing wraps them
-    # fully; the thumb closes over the index.
+    # Handle, diameter 25 mm, across the palm just short of the knuckles: fingers hooked,
+    # closing curls them fully round it (MCP 85-90, PIP 90); the thumb comes in (CMC
+    # abduction 68 -> 60) and closes over the bar beside the index.
     HumanGrasp.SMALL_DIAMETER: (
         {
             "index_abd": 0,
@@ -165,28 +166,28 @@ _POSTURES_DEG = {
             "little_pip": 52,
             "thumb_cmc_abd": 68,
             "thumb_cmc_flex": -14,
-            "thumb_mcp": 20,
-            "thumb_ip": 13,
+            "thumb_mcp": 10,
+            "thumb_ip": 5,
         },
         {
             "index_abd": 0,
-            "index_mcp": 44,
-            "index_pip": 80,
+            "index_mcp": 85,
+            "index_pip": 90,
             "middle_abd": 0,
-            "middle_mcp": 84,
+            "middle_mcp": 90,
             "middle_pip": 90,
             "ring_abd": 0,
-            "ring_mcp": 83,
+            "ring_mcp": 90,
             "ring_pip": 90,
             "little_abd": 0,
-            "little_mcp": 77,
+            "little_mcp": 85,
             "little_pip": 90,
-            "thumb_cmc_abd": 68,
+            "thumb_cmc_abd": 60,
             "thumb_cmc_flex": -7,
-            "thumb_mcp": 52,
-            "thumb_ip": 38,
+            "thumb_mcp": 60,
+            "thumb_ip": 80,
         },
-        0.0600,
+        0.0610,
     ),
     # Cylinder, diameter 50 mm, lying obliquely across the palm: the fingers wrap it, the
     # thumb is not opposed but lies extended along the cylinder axis.
@@ -373,7 +374,7 @@ POSTURE_OBJECTS = {
         "shape": "cylinder",
         "radius": 0.0125,
         "length": 0.25,
-        "centre": (0.035, -0.005, 0.013),
+        "centre": (0.025, -0.005, 0.013),
         "axis": (-0.2588, 0.9659, 0.0),
     },
     HumanGrasp.ABDUCTED_THUMB.value: {
