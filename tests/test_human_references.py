@@ -3,6 +3,7 @@ where the grasp taxonomy says a person touches (docs/method.md#where-the-human-h
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from types import SimpleNamespace
 
@@ -111,3 +112,32 @@ def test_the_held_verdict_is_cached_with_the_contacts(tmp_path, monkeypatch):
     assert second.held == verdict
     cached = next((tmp_path / "human_references").glob("*.json"))
     assert json.loads(cached.read_text())["held_test"]["failure"] == "slipped when pushed"
+
+
+def test_a_run_says_when_its_human_reference_does_not_hold(tmp_path, monkeypatch, capsys):
+    """The reporting: a reference that fails its held test is scored against all the
+    same, and the run says so in result.json and in its summary."""
+    from graspframe import runner
+    from graspframe.cli import main
+
+    real = human_reference.human_reference
+    failure = "the object slipped during the lift: it rose 3 mm of the hand's 50 mm"
+
+    def failing_reference(*args, **kwargs):
+        reference = real(*args, **kwargs)
+        verdict = HeldVerdict(after_lift=False, under_disturbance=None, failure=failure)
+        return dataclasses.replace(reference, held=verdict)
+
+    monkeypatch.setattr(runner, "human_reference", failing_reference)
+    args = ["run", "--hand", "barrett", "--grasp", "pinch", "--no-record"]
+    assert main([*args, "--out", str(tmp_path)]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert f"the human reference does not hold: {failure}" in out
+    saved = json.loads(next(tmp_path.glob("*/result.json")).read_text())
+    assert saved["score"]["human_held_test"] == {
+        "held": False,
+        "held_after_lift": False,
+        "held_under_disturbance": None,
+        "failure": failure,
+    }
+    assert saved["score"]["comparison"]  # scored all the same
