@@ -231,13 +231,15 @@ _POSTURES_DEG = {
         0.0560,
     ),
     # Small object (a 20 mm ball) between the thumb tip and the index tip, the middle
-    # finger alongside the index; ring and little curled out of the way.
+    # finger alongside the index, turned 8 deg away from it (towards the little finger) so
+    # that it meets the object with its tip, if at all; ring and little curled out of the
+    # way.
     HumanGrasp.PINCH: (
         {
             "index_abd": 0,
             "index_mcp": 30,
             "index_pip": 25,
-            "middle_abd": 0,
+            "middle_abd": 8,
             "middle_mcp": 35,
             "middle_pip": 30,
             "ring_abd": 0,
@@ -255,7 +257,7 @@ _POSTURES_DEG = {
             "index_abd": 0,
             "index_mcp": 42,
             "index_pip": 58,
-            "middle_abd": 0,
+            "middle_abd": 8,
             "middle_mcp": 47,
             "middle_pip": 63,
             "ring_abd": 0,
@@ -271,7 +273,10 @@ _POSTURES_DEG = {
         },
         0.0576,
     ),
-    # Ball, diameter 90 mm, in the palm: fingers spread and curved, thumb opposed.
+    # Ball, diameter 90 mm, in the palm: fingers spread and curved, thumb opposed. The ball
+    # is reached from above on a table, and an open thumb standing higher above the palm
+    # than the ball's diameter meets the table first: the open thumb is curled at the IP,
+    # so that the table bends it further round the ball rather than back past its limits.
     HumanGrasp.POWER_SPHERE: (
         {
             "index_abd": -15,
@@ -286,10 +291,10 @@ _POSTURES_DEG = {
             "little_abd": 22,
             "little_mcp": 57,
             "little_pip": 6,
-            "thumb_cmc_abd": 100,
+            "thumb_cmc_abd": 90,
             "thumb_cmc_flex": -20,
-            "thumb_mcp": 5,
-            "thumb_ip": -3,
+            "thumb_mcp": -10,
+            "thumb_ip": 40,
         },
         {
             "index_abd": -15,
@@ -307,9 +312,9 @@ _POSTURES_DEG = {
             "thumb_cmc_abd": 100,
             "thumb_cmc_flex": -12,
             "thumb_mcp": 36,
-            "thumb_ip": 14,
+            "thumb_ip": 30,
         },
-        0.0715,
+        0.0701,
     ),
     # Disc (lid), diameter 90 mm, held by the fingertips in front of the palm: fingers
     # spread around its rim, the thumb on the opposite side; the palm does not touch.
@@ -387,7 +392,7 @@ POSTURE_OBJECTS = {
     HumanGrasp.PINCH.value: {
         "shape": "sphere",
         "radius": 0.010,
-        "centre": (0.0749, -0.0329, 0.0514),
+        "centre": (0.066, -0.0329, 0.0514),
     },
     HumanGrasp.POWER_SPHERE.value: {
         "shape": "sphere",
