@@ -27,7 +27,22 @@ HUMAN = REGISTRY.get_hand("human")
 G = HumanGrasp
 SIZES = ("100", "075", "125")
 # (grasp, size) -> why its human reference does not hold or touch as expected.
-NOT_YET: dict[tuple[HumanGrasp, str], str] = {}
+NOT_YET: dict[tuple[HumanGrasp, str], str] = {
+    (G.SMALL_DIAMETER, "075"): (
+        "held by the little finger and the palm alone: at their joint limits the other "
+        "fingers' loop leaves about 2 mm round the 18.75 mm bar"
+    ),
+    (G.ABDUCTED_THUMB, "100"): "the cylinder slides down the grip: it rises 39 of 40 mm",
+    (G.ABDUCTED_THUMB, "075"): "the hooked fingertips push the 45 mm cylinder out of the grip",
+    (G.ABDUCTED_THUMB, "125"): "the hooked fingertips push the 75 mm cylinder off the palm",
+    (G.PRECISION_DISC, "100"): (
+        "the fingers push the disc towards the wrist, where the thumb cannot reach its rim"
+    ),
+    (G.PRECISION_DISC, "075"): "nothing touches the 67.5 mm disc",
+    (G.PRECISION_DISC, "125"): (
+        "the fingers push the disc towards the wrist, where the thumb cannot reach its rim"
+    ),
+}
 
 
 def _object(grasp: HumanGrasp, size: str):
