@@ -32,9 +32,13 @@ NOT_YET: dict[tuple[HumanGrasp, str], str] = {
         "held by the little finger and the palm alone: at their joint limits the other "
         "fingers' loop leaves about 2 mm round the 18.75 mm bar"
     ),
-    (G.ABDUCTED_THUMB, "100"): "the cylinder slides down the grip: it rises 39 of 40 mm",
-    (G.ABDUCTED_THUMB, "075"): "the hooked fingertips push the 45 mm cylinder out of the grip",
-    (G.ABDUCTED_THUMB, "125"): "the hooked fingertips push the 75 mm cylinder off the palm",
+    (G.ABDUCTED_THUMB, "075"): (
+        "the thumb ends above the 75 mm cylinder's top and cannot flex nearer the palm: "
+        "fingers and palm alone let it slide out"
+    ),
+    (G.ABDUCTED_THUMB, "125"): (
+        "held, but the hooked fingertips keep the 75 mm cylinder a few mm off the palm at the hold"
+    ),
     (G.PRECISION_DISC, "100"): (
         "the fingers push the disc towards the wrist, where the thumb cannot reach its rim"
     ),
