@@ -33,18 +33,11 @@ NOT_YET: dict[tuple[HumanGrasp, str], str] = {
         "fingers' loop leaves about 2 mm round the 18.75 mm bar"
     ),
     (G.ABDUCTED_THUMB, "075"): (
-        "the thumb ends above the 75 mm cylinder's top and cannot flex nearer the palm: "
+        "the thumb ends above the top of the 7.5 cm tall cylinder and cannot flex nearer the palm: "
         "fingers and palm alone let it slide out"
     ),
     (G.ABDUCTED_THUMB, "125"): (
         "held, but the hooked fingertips keep the 75 mm cylinder a few mm off the palm at the hold"
-    ),
-    (G.PRECISION_DISC, "100"): (
-        "the fingers push the disc towards the wrist, where the thumb cannot reach its rim"
-    ),
-    (G.PRECISION_DISC, "075"): "nothing touches the 67.5 mm disc",
-    (G.PRECISION_DISC, "125"): (
-        "the fingers push the disc towards the wrist, where the thumb cannot reach its rim"
     ),
 }
 
