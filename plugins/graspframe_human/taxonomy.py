@@ -109,9 +109,9 @@ def contact_problems(grasp: HumanGrasp, contacts: Iterable) -> list[str]:
         problems.append(f"the thumb does not touch on its {'/'.join(expectation.thumb_segments)}")
     fingers = sorted(touching & set(FINGERS))
     if len(fingers) < expectation.min_fingers:
+        touch = "1 finger touches" if len(fingers) == 1 else f"{len(fingers)} fingers touch"
         problems.append(
-            f"{len(fingers)} fingers touch ({', '.join(fingers) or 'none'}); "
-            f"at least {expectation.min_fingers} should"
+            f"{touch} ({', '.join(fingers) or 'none'}); at least {expectation.min_fingers} should"
         )
     missing = [f for f in expectation.required_fingers if f not in touching]
     if missing:
