@@ -34,6 +34,9 @@ MAX_SIDE = 4096  # [px] larger images are refused
 MIN_SIDE = 32  # [px] smaller images are refused
 DEFAULT_FOV_X_DEG = 60.0  # [deg] assumed horizontal field of view for p_cam_hand
 DISTANCE_FLOOR = 1e-6  # keeps the 1 / distance weight finite for an exact match
+# Reflection of the camera x axis: a left hand is classified in the mirrored image, and
+# its orientation there is mapped back by R -> S R S (a proper rotation again).
+MIRROR_X = np.diag([-1.0, 1.0, 1.0])
 
 
 @dataclass(frozen=True)
@@ -147,6 +150,8 @@ class HogKnnClassifier(Classifier):
         same = labels == winner
         rotations = np.array([R_from_quat_xyzw(q) for q in db.quat_xyzw[ids]])
         R_cam_hand = average_rotations(rotations[same], weights[same])
+        if crop.mirrored:  # the crop was flipped left-right: flip the answer back
+            R_cam_hand = MIRROR_X @ R_cam_hand @ MIRROR_X
         neighbours = tuple(
             Neighbour(int(db.view_ids[i]), GRASPS[int(db.labels[i])], R, float(d))
             for i, R, d in zip(ids, rotations, distances, strict=True)
@@ -170,4 +175,6 @@ class HogKnnClassifier(Classifier):
         depth = f * extent / side
         u = u0 + (0.5 + offset[0]) * side
         v = v0 + (0.5 + offset[1]) * side
+        if crop.mirrored:
+            u = w - u
         return np.array([(u - w / 2) / f * depth, (v - h / 2) / f * depth, depth])
