@@ -27,7 +27,7 @@ from graspframe.motion.arm_motion import ArmMotion
 from graspframe.registry import Registry, default_registry
 from graspframe.results import new_run_dir, versions, write_json
 from graspframe.scene import Scene, check_on_table, load_scene
-from graspframe.snapshots import Snapshot, SnapshotScene, draw_snapshots
+from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
 from graspframe.strategy.arm_path import CheckedPlan, choose_plan, floating_plan
 from graspframe.strategy.executor import ExecutorParams, GraspOutcome, execute_plan
 from graspframe.strategy.human_reference import (
@@ -383,15 +383,8 @@ def _draw_snapshots(run_dir, checked, config, snapshots, outcome, grasp) -> str 
     if not snapshots:
         return None
     hand, arm = config.hand, checked.robot.arm
-    scene = SnapshotScene(
-        urdf_path=checked.robot.urdf_path,
-        T_world_root=checked.T_world_base,
-        palm_frame=hand.palm_frame,
-        finger_of_link=hand.finger_of_link(),
-        joint_followers=hand.with_model_followers,
-        object_shape=config.object.shape,
-        object_dimensions=config.object.dimensions,
-        table_height=config.table_height,
+    scene = scene_of_robot(
+        checked.robot.urdf_path, checked.T_world_base, hand, config.object, config.table_height
     )
     frames = []
     for data in snapshots:

@@ -91,6 +91,21 @@ class SnapshotScene:
     table_height: float
 
 
+def scene_of_robot(urdf_path: Path, T_world_root, hand, obj, table_height: float) -> SnapshotScene:
+    """The scene of a hand (a HandDescription, alone or mounted: `urdf_path` is the model
+    drawn, its root at T_world_root) and an ObjectDescription on a table."""
+    return SnapshotScene(
+        urdf_path=urdf_path,
+        T_world_root=T_world_root,
+        palm_frame=hand.palm_frame,
+        finger_of_link=hand.finger_of_link(),
+        joint_followers=hand.with_model_followers,
+        object_shape=obj.shape,
+        object_dimensions=obj.dimensions,
+        table_height=table_height,
+    )
+
+
 @dataclass(frozen=True)
 class Snapshot:
     """One moment of the grasp.

@@ -43,7 +43,7 @@ from graspframe.motion.arm_motion import ArmMotion
 from graspframe.mounting import cache_dir, mount
 from graspframe.results import read_json_file, write_json
 from graspframe.robot_model import CollisionModel
-from graspframe.snapshots import Snapshot, SnapshotScene, draw_snapshots
+from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
 from graspframe.strategy import held_test
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
@@ -235,16 +235,8 @@ def _snapshot(label: str, world, contacts: list[Contact]) -> Snapshot:
 def _draw(
     path: Path, reference: HumanReference, robot, config: WorldConfig, moments: list[Snapshot]
 ) -> None:
-    human = config.hand
-    scene = SnapshotScene(
-        urdf_path=robot.urdf_path,
-        T_world_root=config.T_world_arm_base,
-        palm_frame=human.palm_frame,
-        finger_of_link=human.finger_of_link(),
-        joint_followers=human.with_model_followers,
-        object_shape=config.object.shape,
-        object_dimensions=config.object.dimensions,
-        table_height=config.table_height,
+    scene = scene_of_robot(
+        robot.urdf_path, config.T_world_arm_base, config.hand, config.object, config.table_height
     )
     verdict = "held" if reference.held.held else f"not held: {reference.held.failure}"
     title = f"human {reference.grasp.value}, {reference.object_name}; {verdict}"
