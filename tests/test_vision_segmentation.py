@@ -9,7 +9,7 @@ import cv2
 import numpy as np
 import pytest
 
-from graspframe.vision.classifier import MIRROR_X, HogKnnClassifier
+from graspframe.vision.classifier import MIRROR_X, HogKnnClassifier, unmirror
 from graspframe.vision.commands import read_image
 from graspframe.vision.database import iter_views
 from graspframe.vision.segmentation import (
@@ -119,10 +119,14 @@ def test_demo_and_renders_are_still_classified():
     assert answered >= 28
 
 
-def test_mirror_maps_back_to_a_rotation():
-    R = cv2.Rodrigues(np.array([0.3, -0.7, 1.1]))[0]
-    M = MIRROR_X @ R @ MIRROR_X
-    assert np.allclose(M @ M.T, np.eye(3)) and np.isclose(np.linalg.det(M), 1.0)
+def test_a_left_hand_estimate_is_reflected_back_to_a_proper_rotation():
+    R_mirrored = cv2.Rodrigues(np.array([0.3, -0.7, 1.1]))[0]
+    R = unmirror(R_mirrored)
+    assert np.allclose(R @ R.T, np.eye(3)) and np.isclose(np.linalg.det(R), 1.0)
+    # The fingertip direction (x) and the palm normal (z) are the mirrored estimate's,
+    # reflected back through the image's vertical axis.
+    assert np.allclose(R[:, 0], MIRROR_X @ R_mirrored[:, 0])
+    assert np.allclose(R[:, 2], MIRROR_X @ R_mirrored[:, 2])
 
 
 def _real_rows():

@@ -34,9 +34,18 @@ MAX_SIDE = 4096  # [px] larger images are refused
 MIN_SIDE = 32  # [px] smaller images are refused
 DEFAULT_FOV_X_DEG = 60.0  # [deg] assumed horizontal field of view for p_cam_hand
 DISTANCE_FLOOR = 1e-6  # keeps the 1 / distance weight finite for an exact match
-# Reflection of the camera x axis: a left hand is classified in the mirrored image, and
-# its orientation there is mapped back by R -> S R S (a proper rotation again).
+# Reflection of the camera x axis: a left hand is classified in the mirrored image.
 MIRROR_X = np.diag([-1.0, 1.0, 1.0])
+FLIP_Y = np.diag([1.0, -1.0, 1.0])
+
+
+def unmirror(R_cam_palm_mirrored: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The palm frame of a left hand from the right-hand frame estimated in the mirrored
+    image: its fingertip axis x and palm normal z are the mirrored estimate's, reflected
+    back (S x, S z, with S = MIRROR_X), and y = z x x keeps it a right-handed rotation
+    (= -S y: a left hand's thumb is on its palm frame's +y side):
+    R = S R_mirrored diag(1, -1, 1)."""
+    return MIRROR_X @ R_cam_palm_mirrored @ FLIP_Y
 
 
 @dataclass(frozen=True)
@@ -151,7 +160,7 @@ class HogKnnClassifier(Classifier):
         rotations = np.array([R_from_quat_xyzw(q) for q in db.quat_xyzw[ids]])
         R_cam_hand = average_rotations(rotations[same], weights[same])
         if crop.mirrored:  # the crop was flipped left-right: flip the answer back
-            R_cam_hand = MIRROR_X @ R_cam_hand @ MIRROR_X
+            R_cam_hand = unmirror(R_cam_hand)
         neighbours = tuple(
             Neighbour(int(db.view_ids[i]), GRASPS[int(db.labels[i])], R, float(d))
             for i, R, d in zip(ids, rotations, distances, strict=True)
