@@ -1,10 +1,11 @@
 """Benchmark of the grasp classifier on real photographs.
 
-    python benchmarks/classifier_real.py DIR [--k K]
+    python benchmarks/classifier_real.py DIR [--k K] [--classifier NAME]
 
 DIR holds the photos and a labels.csv with at least the columns `file` and `grasp_type`
 (one of the six grasp names, or `other`: a real grasp that is none of the six). Each
-photo is classified as `graspframe classify` would; an image the classifier refuses
+photo is classified as `graspframe classify --classifier NAME` would (default hog_knn;
+`landmarks` needs the `hands` extra); an image the classifier refuses
 (no hand found, a bad image) counts as refused. Prints, over the photos of the six
 classes: top-1 accuracy with refusals counted wrong, top-1 of the answered ones, per-class
 top-1 (chance is 1/6), the confusion matrix and the refusal rate; for the `other` rows,
@@ -23,7 +24,8 @@ import time
 from pathlib import Path
 
 from graspframe.errors import GraspframeError
-from graspframe.vision.classifier import DEFAULT_K, HogKnnClassifier
+from graspframe.registry import get_classifier
+from graspframe.vision.classifier import DEFAULT_K
 from graspframe.vision.commands import read_image
 from graspframe.vision.views import GRASPS
 
@@ -102,13 +104,18 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("folder", type=Path, help="photos and labels.csv")
     parser.add_argument("--k", type=int, default=DEFAULT_K)
+    parser.add_argument("--classifier", default="hog_knn", help="registered classifier name")
     args = parser.parse_args()
     if not args.folder.is_dir():
         print(f"{args.folder}: no such folder; nothing to benchmark")
         return 0
     rows = read_labels(args.folder)
-    classifier = HogKnnClassifier(k=args.k)
-    _ = classifier.index  # load the database before timing
+    try:
+        classifier = get_classifier(args.classifier)(k=args.k)
+    except GraspframeError as exc:
+        raise SystemExit(f"error: {exc}") from None
+    classify_all(classifier, rows[:1])  # load databases and detectors before timing
+    print(f"classifier {args.classifier}, k {args.k}")
     report(classify_all(classifier, rows))
     return 0
 

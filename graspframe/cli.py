@@ -253,11 +253,15 @@ def classify(
     image: Annotated[Path, typer.Argument(help="Image of one hand grasping an object.")],
     k: Annotated[int, typer.Option(help="Nearest database views that vote.")] = 8,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+    classifier: Annotated[
+        str,
+        typer.Option(help="Registered classifier: hog_knn, or landmarks (the `hands` extra)."),
+    ] = "hog_knn",
 ) -> None:
     """Classify the human grasp and hand orientation in one image."""
     from graspframe.vision.commands import classify_command
 
-    raise typer.Exit(classify_command(image, k, as_json))
+    raise typer.Exit(classify_command(image, k, as_json, classifier))
 
 
 def _names_option(text: str, kind: str, known: list[str]) -> tuple[str, ...]:

@@ -67,22 +67,27 @@ def estimate_as_dict(estimate) -> dict:
     }
 
 
-def classify_command(image: Path, k: int = 8, as_json: bool = False) -> int:
-    """Classify the human grasp in one image with the hog_knn classifier.
+def classify_command(
+    image: Path, k: int = 8, as_json: bool = False, classifier: str = "hog_knn"
+) -> int:
+    """Classify the human grasp in one image with a registered classifier.
 
     Options for the typer signature:
-      IMAGE   path to a colour image (PNG, JPEG, ...) showing one hand
-      --k     number of nearest database views that vote (default 8, >= 1)
-      --json  print the result as JSON instead of a table
+      IMAGE         path to a colour image (PNG, JPEG, ...) showing one hand
+      --k           number of nearest neighbours that vote (default 8, >= 1)
+      --json        print the result as JSON instead of a table
+      --classifier  registered classifier name (default hog_knn; `landmarks` needs the
+                    `hands` extra)
     Prints grasp, confidence, hand orientation (rotation matrix and Euler angles, the
     convention named) and the neighbours used. Exit code 0; errors raise InputError /
     NoHandFoundError (one line).
     """
-    from graspframe.vision.classifier import HogKnnClassifier
+    from graspframe.registry import get_classifier
 
+    classifier_class = get_classifier(classifier)
     if k < 1:
         raise InputError(f"--k must be >= 1, got {k}")
-    estimate = HogKnnClassifier(k=k).classify(read_image(image))
+    estimate = classifier_class(k=k).classify(read_image(image))
     result = estimate_as_dict(estimate)
     if as_json:
         sys.stdout.write(json.dumps(result, indent=2) + "\n")

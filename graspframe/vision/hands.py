@@ -34,11 +34,14 @@ PALM = (0, 1, 5, 9, 13, 17)
 class DetectedHand:
     """One detected hand: `landmarks` (21, 2) [px] in the image; `left` True for a
     left hand (MediaPipe's label swapped back, since it assumes a mirrored selfie
-    image); `score` the handedness confidence."""
+    image); `score` the handedness confidence; `world_landmarks` (21, 3) [m]
+    MediaPipe's metric 3-D estimate, origin near the hand's centre, axes along the
+    camera's (x right, y down, z away from the camera), None when not given."""
 
     landmarks: NDArray[np.float64]
     left: bool
     score: float
+    world_landmarks: NDArray[np.float64] | None = None
 
     @property
     def size(self) -> float:
@@ -52,9 +55,14 @@ def detector_enabled() -> bool:
     return _detector() is not None
 
 
+def detector_switched_off() -> bool:
+    """True when GRASPFRAME_HAND_DETECTOR switches the detector off."""
+    return os.environ.get("GRASPFRAME_HAND_DETECTOR", "").lower() in {"none", "off", "0"}
+
+
 @functools.cache
 def _detector():
-    if os.environ.get("GRASPFRAME_HAND_DETECTOR", "").lower() in {"none", "off", "0"}:
+    if detector_switched_off():
         return None
     os.environ.setdefault("GLOG_minloglevel", "2")
     os.environ.setdefault("TF_CPP_MIN_LOG_LEVEL", "3")
@@ -84,11 +92,21 @@ def detect_hand(image_bgr: NDArray[np.uint8]) -> DetectedHand | None:
     if not result.multi_hand_landmarks:
         return None
     h, w = image_bgr.shape[:2]
+    world = result.multi_hand_world_landmarks or [None] * len(result.multi_hand_landmarks)
     hands = []
-    for landmarks, handedness in zip(
-        result.multi_hand_landmarks, result.multi_handedness, strict=True
+    for landmarks, handedness, world_landmarks in zip(
+        result.multi_hand_landmarks, result.multi_handedness, world, strict=True
     ):
         points = np.array([(p.x * w, p.y * h) for p in landmarks.landmark], np.float64)
+        points_m = (
+            None
+            if world_landmarks is None
+            else np.array([(p.x, p.y, p.z) for p in world_landmarks.landmark], np.float64)
+        )
         label = handedness.classification[0]
-        hands.append(DetectedHand(points, left=label.label == "Right", score=label.score))
+        hands.append(
+            DetectedHand(
+                points, left=label.label == "Right", score=label.score, world_landmarks=points_m
+            )
+        )
     return max(hands, key=lambda hand: hand.size)

@@ -1,0 +1,1 @@
+"""The hand-landmark grasp classifier (needs the `hands` extra: MediaPipe Hands)."""

@@ -1,0 +1,95 @@
+"""The landmark classifier: MediaPipe hand landmarks -> joint angles -> weighted kNN
+over the human hand model's grasp postures.
+
+classify(image): check the image, detect the hand (graspframe.vision.hands, needs the
+`hands` extra), take its 3-D world landmarks [m] (camera axes: x right, y down, z
+forward), compute the 19 joint angles (features.py), find the k nearest sampled model
+postures (postures.py) and vote by 1 / distance; R_cam_hand is the palm frame of the
+landmarks (features.palm_frame). p_cam_hand is not estimated (None): the world
+landmarks are relative to the hand.
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from graspframe.errors import InputError, NotAvailableError
+from graspframe.hal.classifier import Classifier, HumanGraspEstimate, Neighbour
+from graspframe.vision import hands
+from graspframe.vision.classifier import check_image
+from graspframe.vision.segmentation import NoHandFoundError
+from graspframe_landmarks.features import angle_features, palm_frame
+from graspframe_landmarks.postures import GRASP_ORDER, PostureTable, posture_table
+
+DEFAULT_K = 8
+DISTANCE_FLOOR = 1e-6  # [rad] keeps the 1 / distance weight finite for an exact match
+
+
+def require_detector() -> None:
+    """NotAvailableError (one line) when the hand detector cannot run."""
+    if hands.detector_enabled():
+        return
+    if hands.detector_switched_off():
+        raise NotAvailableError(
+            "the landmarks classifier needs the hand detector, switched off by "
+            "GRASPFRAME_HAND_DETECTOR; unset it"
+        )
+    raise NotAvailableError(
+        "the landmarks classifier needs MediaPipe, which is not installed: "
+        "pip install 'graspframe[hands]' (the `hands` extra)"
+    )
+
+
+def estimate_from_landmarks(
+    points_cam: NDArray[np.float64], left: bool, table: PostureTable, k: int = DEFAULT_K
+) -> HumanGraspEstimate:
+    """The estimate for (21, 3) landmarks in the camera frame (any unit)."""
+    query = angle_features(points_cam)
+    distances = np.linalg.norm(table.features - query, axis=1)  # [rad]
+    ids = np.argsort(distances)[: min(k, len(distances))]
+    weights = 1.0 / np.maximum(distances[ids], DISTANCE_FLOOR)
+    votes = np.bincount(table.grasps[ids], weights=weights, minlength=len(GRASP_ORDER))
+    winner = int(np.argmax(votes))
+    R_cam_hand = palm_frame(points_cam, left=left)
+    neighbours = tuple(
+        Neighbour(int(i), GRASP_ORDER[int(table.grasps[i])], R_cam_hand, float(distances[i]))
+        for i in ids
+    )
+    return HumanGraspEstimate(
+        grasp=GRASP_ORDER[winner],
+        confidence=float(votes[winner] / votes.sum()),
+        R_cam_hand=R_cam_hand,
+        p_cam_hand=None,
+        neighbours=neighbours,
+    )
+
+
+class LandmarkClassifier(Classifier):
+    """MediaPipe hand landmarks, joint angles, k nearest human-model postures.
+
+    k: postures that vote (neighbour view_id = index of the sampled posture).
+    """
+
+    name: ClassVar[str] = "landmarks"
+    summary: ClassVar[str] = (
+        "MediaPipe hand landmarks + joint angles + weighted kNN over the human model's "
+        "postures (needs the `hands` extra)"
+    )
+
+    def __init__(self, k: int = DEFAULT_K):
+        if k < 1:
+            raise InputError(f"k must be >= 1, got {k}")
+        self.k = k
+
+    def classify(self, image_bgr: NDArray[np.uint8]) -> HumanGraspEstimate:
+        """Estimate the grasp in a BGR uint8 image; raises InputError, NotAvailableError
+        (no `hands` extra) or NoHandFoundError."""
+        image = check_image(image_bgr)
+        require_detector()
+        hand = hands.detect_hand(image)
+        if hand is None or hand.world_landmarks is None:
+            raise NoHandFoundError("no hand found: the hand detector finds no hand landmarks")
+        return estimate_from_landmarks(hand.world_landmarks, hand.left, posture_table(), self.k)
