@@ -21,6 +21,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from graspframe.vision.classifier import unmirror
+
 WRIST = 0
 THUMB = (1, 2, 3, 4)  # CMC, MCP, IP, tip
 FINGERS = {
@@ -41,7 +43,7 @@ FEATURE_NAMES = (
     "spread_thumb_index",
 )
 # Reflection of the camera x axis: a left hand's points are mirrored into a right hand,
-# and its palm frame mapped back by R -> S R S (as the hog_knn classifier does).
+# and its palm frame mapped back by `unmirror` (as the hog_knn classifier does).
 MIRROR_X = np.diag([-1.0, 1.0, 1.0])
 
 
@@ -75,7 +77,8 @@ def palm_frame(points: NDArray[np.float64], left: bool = False) -> NDArray[np.fl
     +x wrist -> middle MCP, +y index MCP -> little MCP made orthogonal to x (the palm
     plane is spanned by x and y), +z = x X y, out of the palm on the palmar side for a
     right hand (the thumb is on -y), as the human model's hh_palm_frame. A left hand is
-    mirrored (x -> -x) into a right hand and its frame mapped back: S R S.
+    mirrored (x -> -x) into a right hand and its frame mapped back (`unmirror`: the
+    fingertip axis and the palm normal reflected back, y = z x x).
     """
     p = np.asarray(points, np.float64)
     if left:
@@ -86,4 +89,4 @@ def palm_frame(points: NDArray[np.float64], left: bool = False) -> NDArray[np.fl
     y -= (y @ x) * x
     y /= np.linalg.norm(y)
     R = np.column_stack([x, y, np.cross(x, y)])
-    return MIRROR_X @ R @ MIRROR_X if left else R
+    return unmirror(R) if left else R
