@@ -31,7 +31,7 @@ class HumanGrasp(StrEnum):
         """True when the robot strategy is volar (approach until the palm touches).
 
         Only the two diameter grasps: the robot hands cannot reproduce the palm contact
-        of Abducted Thumb and Power Sphere (METHOD.md section 1).
+        of Abducted Thumb and Power Sphere (docs/method.md, section 1).
         """
         return self in (HumanGrasp.LARGE_DIAMETER, HumanGrasp.SMALL_DIAMETER)
 
@@ -65,7 +65,7 @@ _VOLAR_FOR_HUMAN = frozenset(
 
 
 class Preshape(StrEnum):
-    """Preshape names of the built-in robot hands (METHOD.md section 1).
+    """Preshape names of the built-in robot hands (docs/method.md, section 1).
 
     A hand plugin may define preshapes with other names; these are the shared ones.
     """

@@ -1,4 +1,5 @@
-"""The human right hand model: segment lengths against ROBOTS.md, frames, coupling, postures.
+"""The human right hand model: segment lengths against Buchholz et al. 1992, frames,
+coupling, postures.
 
 Positions come from Pinocchio forward kinematics of the shipped URDF (and of a 170 mm hand
 generated for the test). Tolerances, with their reasons:
@@ -45,7 +46,7 @@ LENGTH_TOL = 0.5 * MM
 DELTA_TOL = 1.0 * MM
 HAND = HUMAN
 
-# ROBOTS.md "Human hand" (Buchholz et al. 1992), segment length / hand length.
+# Buchholz et al. 1992 (docs/robots/human.md), segment length / hand length.
 BUCHHOLZ = {
     "thumb": (0.251, 0.196, 0.158),
     "index": (0.374, 0.265, 0.143, 0.097),

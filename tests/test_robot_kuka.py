@@ -1,5 +1,5 @@
-"""The KUKA KR 5 sixx R850 model: kinematics against ROBOTS.md, limits, home pose, contract,
-SAPIEN loading and generator reproducibility."""
+"""The KUKA KR 5 sixx R850 model: kinematics against the KR 5 spec (docs/robots/kuka.md),
+limits, home pose, contract, SAPIEN loading and generator reproducibility."""
 
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ from graspframe.testing import assert_arm_contract
 REPO = Path(__file__).resolve().parents[1]
 ARM = arm_description()
 
-# ROBOTS.md "KUKA KR 5 sixx R850", copied here independently of the generator:
+# The KR 5 spec (docs/robots/kuka.md), copied here independently of the generator:
 # alpha_{i-1} [deg], a_{i-1} [mm], d_i [mm], theta offset [deg], limits [deg], speed [deg/s].
 ROBOTS_MD = (
     (0, 0, 335, 0, -170, 170, 375),
@@ -32,7 +32,7 @@ ROBOTS_MD = (
 )
 JOINT_NAMES = tuple(f"kr5_a{i}" for i in range(1, 7))
 
-FK_TOL = 1e-3  # [m] the brief's tolerance for the published FK facts (ROBOTS.md says "about")
+FK_TOL = 1e-3  # [m] the brief's tolerance for the published FK facts (the spec says "about")
 EXACT_TOL = 1e-5  # [m], [rad]: URDF numbers are written with 6 significant digits
 URDF_LIMIT_TOL = 1e-4  # [rad] 6 digits in the URDF; SAPIEN keeps limits to about 1e-4
 DOWN_TOL = math.radians(1.0)  # [rad] "flange pointing down within 1 deg"
@@ -69,7 +69,7 @@ def _distance_to_line(p, point, direction) -> float:
 
 
 def _dh_flange(q_rad) -> np.ndarray:
-    """T_base_flange by Craig's modified DH of the ROBOTS.md table, theta = A + offset."""
+    """T_base_flange by Craig's modified DH of the KR 5 spec table, theta = A + offset."""
     T = np.eye(4)
     for (alpha, a, d, offset, *_), q in zip(ROBOTS_MD, q_rad, strict=True):
         ca, sa = math.cos(math.radians(alpha)), math.sin(math.radians(alpha))
@@ -87,7 +87,7 @@ def _dh_flange(q_rad) -> np.ndarray:
 
 
 def test_robots_md_pose_wrist_and_flange(model):
-    """ROBOTS.md: wrist point about (480, 0, 790) mm, flange at x = 560, in KUKA's
+    """KR 5 spec: wrist point about (480, 0, 790) mm, flange at x = 560, in KUKA's
     mechanical zero (A2 = -90, A3 = +90: upper arm up, forearm forward)."""
     mechanical_zero = (0, -90, 90, 0, 0, 0)
     data = _fk(model, mechanical_zero)

@@ -1,4 +1,4 @@
-"""The KUKA LBR iiwa 14 R820 model: kinematics against ROBOTS.md, limits, masses, home
+"""The KUKA LBR iiwa 14 R820 model: kinematics against the iiwa spec, limits, masses, home
 pose, contract, SAPIEN loading and generator reproducibility."""
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from graspframe.testing import assert_arm_contract
 REPO = Path(__file__).resolve().parents[1]
 ARM = arm_description()
 
-# ROBOTS.md "KUKA LBR iiwa 14 R820", copied here independently of the generator.
+# The iiwa spec (docs/robots/kuka_iiwa14.md), copied here independently of the generator.
 LIMITS_DEG = (170, 120, 170, 120, 170, 120, 175)
 SPEEDS_DEG_S = (85, 85, 100, 75, 130, 135, 135)
 TORQUES_NM = (320, 320, 176, 176, 110, 40, 40)

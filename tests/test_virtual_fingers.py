@@ -1,4 +1,4 @@
-"""The virtual-finger metric (METHOD.md section 5) on analytic cases and random forces."""
+"""The virtual-finger metric (docs/method.md, section 5) on analytic cases and random forces."""
 
 from __future__ import annotations
 
@@ -58,7 +58,7 @@ def test_force_coupling_and_pair_cohesion_of_basic_directions():
 
 
 def test_a_perpendicular_pair_gives_one_half_not_zero():
-    # METHOD.md's prose says "any perpendicular pair gives 0", but its formula
+    # The method's prose says "any perpendicular pair gives 0", but its formula
     # m = (1 + cos 90deg) / 2 = 0.5; only an opposed pair (cos = -1) gives 0. The formula
     # is what is implemented; this test pins what it gives.
     assert pair_cohesion(X, Y) == pytest.approx(0.5, abs=TOL)
@@ -164,7 +164,8 @@ def all_partitions(items):
 
 
 def c_eff_by_definition(forces, blocks):
-    """C_eff straight from METHOD.md: cosines, m_ij, geometric means, 1/N!, N-th root."""
+    """C_eff straight from the method's formula (docs/method.md, section 5): cosines,
+    m_ij, geometric means, 1/N!, N-th root."""
     cohesions = []
     for block in blocks:
         pairs = [(i, j) for k, i in enumerate(block) for j in block[k + 1 :]]

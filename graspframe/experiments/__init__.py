@@ -1,1 +1,1 @@
-"""The method's experiments (METHOD.md section 6): sweeps of grasp runs, summaries, plots."""
+"""The method's experiments (docs/experiments.md): sweeps of grasp runs, summaries, plots."""

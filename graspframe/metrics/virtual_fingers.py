@@ -1,4 +1,4 @@
-"""Virtual fingers: the grasp-similarity metric of METHOD.md section 5, on plain arrays.
+"""Virtual fingers: the method's grasp-similarity metric (docs/method.md, 5), on arrays.
 
 A real finger is one finger or the palm; a virtual finger is a set of real fingers whose
 forces act in unison. The steps, each a pure function:
@@ -15,9 +15,9 @@ forces act in unison. The steps, each a pure function:
    mean contact normal over its T(V_k) contacts).
 6. `compare`: robot virtual fingers against the human's, matched one-to-one.
 
-What the formula gives, written out because METHOD.md's prose says otherwise: with
+What the formula gives, written out because the method's prose says otherwise: with
 m_ij = (1 + cos) / 2, parallel forces give m = 1, PERPENDICULAR forces give m = 0.5 and
-OPPOSED forces give m = 0. METHOD.md's sentence "any perpendicular pair gives 0" holds for
+OPPOSED forces give m = 0. The method's sentence "any perpendicular pair gives 0" holds for
 an opposed pair, not a perpendicular one; this module implements the formula.
 
 Positions are in metres, forces in newtons, normals are unit vectors; errors reported in
@@ -213,7 +213,7 @@ def cohesive_index(forces: ArrayLike) -> float:
 
     forces: (F,3) net force of each real finger in the virtual finger [N], F >= 1.
     One real finger gives 1; all parallel forces give 1; one perpendicular pair alone gives
-    0.5 (not 0 as METHOD.md's prose says); any opposed pair gives 0.
+    0.5 (not 0 as the method's prose says; docs/method.md, section 5); any opposed pair gives 0.
     """
     directions = _force_directions(forces)
     return _geometric_mean_of_pairs(_pair_cohesion_matrix(directions), range(len(directions)))

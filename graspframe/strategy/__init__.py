@@ -1,1 +1,1 @@
-"""The grasp strategy of METHOD.md sections 3 and 4: plan, execute, human references."""
+"""The method's grasp strategy (docs/method.md, 3-4): plan, execute, human references."""

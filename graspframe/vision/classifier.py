@@ -1,4 +1,4 @@
-"""The HOG + weighted-kNN grasp classifier (METHOD.md section 2).
+"""The HOG + weighted-kNN grasp classifier (docs/method.md, section 2; docs/vision.md).
 
 classify(image): check the image, segment the hand by skin colour, crop and normalise
 it, HOG, PCA, k nearest database views, distance-weighted class vote (weights

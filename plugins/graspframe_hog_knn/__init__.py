@@ -1,1 +1,1 @@
-"""Built-in graspframe plugin: the HOG + weighted-kNN grasp classifier (METHOD.md section 2)."""
+"""Built-in graspframe plugin: the HOG + weighted-kNN grasp classifier (docs/vision.md)."""

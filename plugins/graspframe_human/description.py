@@ -1,7 +1,7 @@
 """The human right hand as data: the reference hand for scoring (and for rendering).
 
 Model: robots/human/human.urdf, written by tools/robot_models/human.py for a 190 mm hand
-(Buchholz et al. segment ratios from ROBOTS.md; every number and assumption is listed in
+(Buchholz et al. 1992 segment ratios; every number and assumption is listed in
 docs/robots/human.md). 20 joints: per finger ab/adduction and flexion at the knuckle, the
 PIP, and the DIP, which is a URDF <mimic> of the PIP at 2/3 (so not a driven joint); the
 thumb has CMC abduction and flexion, MCP and IP. Angles [rad]; positive flexion bends
@@ -39,18 +39,19 @@ from graspframe_robots import model_path
 
 NAME = "human"
 MODEL_FILE = "human/human.urdf"
-HAND_LENGTH = 0.19  # [m] the chosen adult size (ROBOTS.md: about 190 mm)
+HAND_LENGTH = 0.19  # [m] the chosen adult size (a typical adult hand: about 190 mm)
 ROOT_LINK = "hh_wrist"
 PALM_FRAME = "hh_palm_frame"
 PALM_SENSOR_LINK = "hh_palm_pad"
 FINGERS = ("index", "middle", "ring", "little")
 DIGITS = (THUMB, *FINGERS)
-DIP_PER_PIP = 2.0 / 3.0  # ROBOTS.md: the end joint is coupled to the middle one at ~2/3
+DIP_PER_PIP = 2.0 / 3.0  # the end joint coupled to the middle one at 2/3 (Rijpkema & Girard 1991)
 
 DEG = math.pi / 180.0
 # Limits [deg], equal to the generator's (the contract checks them against the URDF).
-# ROBOTS.md: ab/adduction +-20 index, +-10 middle, +-20 ring, +-30 little; MCP and PIP
-# -10..90. Thumb: our assumption from typical human ranges (docs/robots/human.md).
+# The usual 20-DOF hand model (docs/robots/human.md): ab/adduction +-20 index, +-10
+# middle, +-20 ring, +-30 little; MCP and PIP -10..90. Thumb: our assumption from
+# typical human ranges (docs/robots/human.md).
 ABD_LIMIT_DEG = {"index": 20.0, "middle": 10.0, "ring": 20.0, "little": 30.0}
 FLEX_LIMITS_DEG = (-10.0, 90.0)
 THUMB_LIMITS_DEG = {

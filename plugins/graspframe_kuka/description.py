@@ -1,8 +1,9 @@
 """KUKA KR 5 sixx R850: joint limits, home pose and drive gains, in SI units.
 
 Joint angles are KUKA's axis values A1..A6 (0 = the pose of the modified-DH table: upper
-arm and forearm stretched forward horizontally). Numbers come from ROBOTS.md ("KUKA KR 5
-sixx R850"); where it is silent the value is OUR ASSUMPTION, marked so. The URDF
+arm and forearm stretched forward horizontally). Numbers come from KUKA's KR 5 sixx
+specification (the "KR 5 spec", docs/robots/kuka.md); where it is silent the value is OUR
+ASSUMPTION, marked so. The URDF
 generator (tools/robot_models/kuka.py) reads the joint limits from `JOINTS` here, so the
 model and the description cannot disagree. docs/robots/kuka.md tabulates every number.
 """
@@ -17,9 +18,9 @@ NAME = "kuka"
 MODEL_FILE = "kuka/kuka.urdf"
 BASE_LINK = "kr5_base"
 FLANGE_LINK = "kr5_flange"
-PAYLOAD = 5.0  # [kg] ROBOTS.md
+PAYLOAD = 5.0  # [kg] KR 5 spec
 
-# name, lower [deg], upper [deg] (ROBOTS.md DH table), max speed [deg/s] (ROBOTS.md, the
+# name, lower [deg], upper [deg] (KR 5 spec), max speed [deg/s] (KR 5 spec, the
 # R650 figures: the R850's are not given), max torque [N m] (assumption: about twice the
 # static torque of the stretched arm with 5 kg payload, see docs/robots/kuka.md).
 _JOINT_TABLE = (
@@ -30,7 +31,7 @@ _JOINT_TABLE = (
     ("kr5_a5", -120.0, 120.0, 410.0, 25.0),
     ("kr5_a6", -358.0, 358.0, 660.0, 15.0),
 )
-# Assumptions (ROBOTS.md gives no acceleration or jerk): full speed in 0.4 s, full
+# Assumptions (the KR 5 spec gives no acceleration or jerk): full speed in 0.4 s, full
 # acceleration in 0.1 s; conservative for trajectory generation.
 ACCELERATION_PER_VELOCITY = 2.5  # [1/s]
 JERK_PER_ACCELERATION = 10.0  # [1/s]

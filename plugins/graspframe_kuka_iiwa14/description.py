@@ -1,9 +1,10 @@
 """KUKA LBR iiwa 14 R820: joint limits, home pose and drive gains, in SI units.
 
 Joint angles are KUKA's axis values A1..A7 (0 = the arm standing straight up). Numbers
-come from ROBOTS.md ("KUKA LBR iiwa 14 R820"); where it is silent the value is OUR
-ASSUMPTION, marked so. The URDF generator (tools/robot_models/kuka_iiwa14.py) reads the
-joint limits from `JOINTS` here, so the model and the description cannot disagree.
+come from KUKA's LBR iiwa specification (the "iiwa spec", docs/robots/kuka_iiwa14.md);
+where it is silent the value is OUR ASSUMPTION, marked so. The URDF generator
+(tools/robot_models/kuka_iiwa14.py) reads the joint limits from `JOINTS` here, so the model
+and the description cannot disagree.
 docs/robots/kuka_iiwa14.md tabulates every number.
 """
 
@@ -19,7 +20,7 @@ BASE_LINK = "iiwa_base"
 FLANGE_LINK = "iiwa_flange"
 PAYLOAD = 14.0  # [kg] the "14" of the name
 
-# name, limit +- [deg], max speed [deg/s], max torque [N m]: all ROBOTS.md.
+# name, limit +- [deg], max speed [deg/s], max torque [N m]: all iiwa spec.
 _JOINT_TABLE = (
     ("iiwa_a1", 170.0, 85.0, 320.0),
     ("iiwa_a2", 120.0, 85.0, 320.0),
@@ -29,7 +30,7 @@ _JOINT_TABLE = (
     ("iiwa_a6", 120.0, 135.0, 40.0),
     ("iiwa_a7", 175.0, 135.0, 40.0),
 )
-# Assumptions (ROBOTS.md gives no acceleration or jerk): full speed in 0.4 s, full
+# Assumptions (the iiwa spec gives no acceleration or jerk): full speed in 0.4 s, full
 # acceleration in 0.1 s; conservative for trajectory generation.
 ACCELERATION_PER_VELOCITY = 2.5  # [1/s]
 JERK_PER_ACCELERATION = 10.0  # [1/s]

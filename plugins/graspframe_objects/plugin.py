@@ -1,4 +1,5 @@
-"""The default objects, one per human grasp, sized as METHOD.md section 1 describes.
+"""The default objects, one per human grasp, sized from the method's grasp table
+(docs/method.md, section 1).
 
 Sizes follow the "typical object" column (large diameter: a can, diameter 7-9 cm; small
 diameter: a handle, 2-3 cm; power sphere: a ball, 8-10 cm), with every object about 10 cm

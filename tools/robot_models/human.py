@@ -37,11 +37,11 @@ PREFIX = "hh_"
 OUT_PATH = Path(__file__).resolve().parents[2] / "robots" / "human" / "human.urdf"
 
 # ---- size -------------------------------------------------------------------------------
-# ROBOTS.md "Human hand": hand length about 190 mm for an adult. Our chosen size: 190 mm.
+# A typical adult hand is about 190 mm long. Our chosen size: 190 mm.
 HAND_LENGTH_M = 0.19
 REFERENCE_HAND_LENGTH_M = 0.19  # the size at which the *_MM dimensions below are given
 
-# ROBOTS.md "Human hand" table (Buchholz et al. 1992): segment length / hand length.
+# Buchholz et al. 1992 (docs/robots/human.md): segment length / hand length.
 # Fingers: metacarpal, proximal, middle, distal; thumb: metacarpal, proximal, distal.
 SEGMENT_RATIOS = {
     "thumb": (0.251, 0.196, 0.158),
@@ -53,7 +53,7 @@ SEGMENT_RATIOS = {
 FINGERS = ("index", "middle", "ring", "little")  # radial (thumb side) to ulnar
 
 # ---- palm -------------------------------------------------------------------------------
-PALM_WIDTH_MM = 85.0  # ROBOTS.md "Human hand": palm about 85 wide
+PALM_WIDTH_MM = 85.0  # a typical adult palm: about 85 wide
 PALM_THICKNESS_MM = 28.0  # assumption: adult palm thickness at the metacarpals is ~25-30 mm
 PAD_THICKNESS_MM = 2.0  # assumption: the palm sensor pad is the palmar 2 mm skin layer
 # Assumption: the metacarpal bases (CMC joints of the fingers) sit closer together than the
@@ -62,7 +62,7 @@ METACARPAL_BASE_SPREAD = 0.6
 # Assumption: gap between a palm box's distal face and the proximal phalanx's rounded
 # knuckle, so a finger can flex 90 deg without entering the palm.
 KNUCKLE_CLEARANCE_MM = 1.0
-# ROBOTS.md gives the palm as about 100 long: our palm body reaches from the wrist crease to
+# A typical adult palm is about 100 long: our palm body reaches from the wrist crease to
 # just before each knuckle (74 mm on the middle ray at 190 mm); the rest of the 100 mm, the
 # skin web up to the finger crease, is covered by the proximal phalanges (see docs).
 
@@ -77,7 +77,7 @@ FINGER_RADII_MM = {
 # thumb metacarpal, proximal, distal phalanx radius [mm]
 THUMB_RADII_MM = (11.0, 10.0, 9.0)
 
-# ---- thumb base (assumption: typical adult anatomy, no published number in ROBOTS.md) ---
+# ---- thumb base (assumption: typical adult anatomy, no published number used) ---
 # CMC joint position (u, v, w) [mm]: near the wrist, just outside the radial face of the
 # palm box (the 85 mm palm width is measured across the metacarpals; the thumb base and
 # thenar widen the hand beyond it near the wrist), a little in front of the mid-plane.
@@ -108,12 +108,13 @@ THENAR_RADIUS_MM = 13.0
 THENAR_SPAN_MM = (-6.0, 14.0)  # along the abduction axis from the CMC
 
 # ---- joint limits [deg] -----------------------------------------------------------------
-# ROBOTS.md "Human hand": ab/adduction +-20 index, +-10 middle, +-20 ring, +-30 little;
-# MCP, PIP and DIP -10..90 each. Positive ab/adduction turns a finger towards the little
-# finger (+v); positive flexion bends it towards the palm (+w).
+# The usual 20-DOF hand model (docs/robots/human.md): ab/adduction +-20 index, +-10
+# middle, +-20 ring, +-30 little; MCP, PIP and DIP -10..90 each. Positive ab/adduction
+# turns a finger towards the little finger (+v); positive flexion bends it towards the
+# palm (+w).
 ABD_LIMIT_DEG = {"index": 20.0, "middle": 10.0, "ring": 20.0, "little": 30.0}
-FLEX_LIMITS_DEG = (-10.0, 90.0)  # MCP, PIP, and the DIP's own limits (ROBOTS.md range)
-DIP_PIP_RATIO = 2.0 / 3.0  # ROBOTS.md: the end joint is often coupled at about 2/3
+FLEX_LIMITS_DEG = (-10.0, 90.0)  # MCP, PIP, and the DIP's own limits (the usual range)
+DIP_PIP_RATIO = 2.0 / 3.0  # end joint coupled to the middle at 2/3 (Rijpkema & Girard 1991)
 # Thumb (assumption: typical goniometric ranges; the CMC flexion range is wider than the
 # clinical 15 deg because this model has no CMC rotation joint and reaches opposition by
 # abduction plus flexion of a pre-pronated thumb).
