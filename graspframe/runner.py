@@ -391,15 +391,8 @@ def _draw_snapshots(run_dir, checked, config, snapshots, outcome, grasp) -> str 
         q = dict(data["q_hand"])
         if data["q_arm"] is not None:
             q.update(zip(arm.joint_names, data["q_arm"], strict=True))
-        contacts = data["contacts"]
         frames.append(
-            Snapshot(
-                label=data["label"],
-                q_by_joint=q,
-                T_world_object=data["T_world_object"],
-                contact_points_world=np.array([c.p_world for c in contacts]).reshape(-1, 3),
-                contact_fingers=[c.real_finger for c in contacts],
-            )
+            Snapshot.with_contacts(data["label"], q, data["T_world_object"], data["contacts"])
         )
     verdict = "held" if outcome.success else f"failed: {outcome.failure_reason}"
     title = (

@@ -122,6 +122,17 @@ class Snapshot:
     contact_points_world: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
     contact_fingers: Sequence[str] = ()
 
+    @classmethod
+    def with_contacts(cls, label: str, q_by_joint, T_world_object, contacts: Sequence) -> Snapshot:
+        """The moment with `contacts` (graspframe.contacts.Contact, world frame) drawn."""
+        return cls(
+            label=label,
+            q_by_joint=q_by_joint,
+            T_world_object=T_world_object,
+            contact_points_world=np.array([c.p_world for c in contacts]).reshape(-1, 3),
+            contact_fingers=[c.real_finger for c in contacts],
+        )
+
 
 @dataclass(frozen=True)
 class View:

@@ -124,7 +124,11 @@ class HumanReference:
 def load_reference_file(path: Path | str) -> HumanReference:
     """Read measured human contacts (format in the module docstring); clear errors."""
     path = Path(path)
-    data = read_json_file(path, "human contacts file")
+    return _reference_from_json(read_json_file(path, "human contacts file"), path)
+
+
+def _reference_from_json(data, path: Path) -> HumanReference:
+    """The reference in `data` (the file format), read from `path` (named in errors)."""
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise InputError(f'{path}: expected a JSON object with "format": "{FORMAT}"')
     if data.get("frame") != "object":
@@ -156,8 +160,9 @@ def load_reference_file(path: Path | str) -> HumanReference:
 
 def _load_cached(path: Path, obj: ObjectDescription) -> HumanReference:
     """A reference this module wrote to the cache, its held test and picture included."""
-    cached = load_reference_file(path)
-    held = HeldVerdict.from_dict(read_json_file(path, "cached human reference")["held_test"])
+    data = read_json_file(path, "cached human reference")
+    cached = _reference_from_json(data, path)
+    held = HeldVerdict.from_dict(data["held_test"])
     picture = path.with_suffix(".png")
     return HumanReference(
         cached.grasp,
@@ -223,13 +228,7 @@ def simulate_human_grasp(
 def _snapshot(label: str, world, contacts: list[Contact]) -> Snapshot:
     q = dict(world.hand.joint_positions())
     q.update(zip(world.arm.joint_names, world.arm.joint_positions(), strict=True))
-    return Snapshot(
-        label=label,
-        q_by_joint=q,
-        T_world_object=world.object.T_world_object(),
-        contact_points_world=np.array([c.p_world for c in contacts]).reshape(-1, 3),
-        contact_fingers=[c.real_finger for c in contacts],
-    )
+    return Snapshot.with_contacts(label, q, world.object.T_world_object(), contacts)
 
 
 def _draw(
