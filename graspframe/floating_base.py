@@ -77,3 +77,15 @@ def T_world_base_for(
 ) -> NDArray[np.float64]:
     """The base pose whose home (every virtual joint at 0) puts the palm at T_world_palm."""
     return np.asarray(T_world_palm, dtype=float) @ inv_T(T_flange_palm)
+
+
+def mount_floating(hand, T_world_palm: NDArray[np.float64]):
+    """(MountedRobot, T_world_base): `hand` (a HandDescription) on the floating base, and
+    the base pose whose home puts its palm at T_world_palm."""
+    from graspframe.mounting import mount
+    from graspframe.robot_model import CollisionModel
+
+    robot = mount(floating_base(), hand)
+    # The hand's root sits on the flange, so its root -> palm is flange -> palm.
+    T_flange_palm = CollisionModel(hand.model_path).T_root_frame(hand.palm_frame)
+    return robot, T_world_base_for(T_world_palm, T_flange_palm)

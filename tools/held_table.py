@@ -12,10 +12,10 @@ when pushed), or "no" with the failure reason. The sweep that writes the file:
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
+from graspframe.experiments.sweep import load_finished
 from graspframe.grasps import HumanGrasp
 from graspframe.registry import default_registry
 
@@ -59,7 +59,7 @@ def main(argv: list[str]) -> int:
         print(__doc__)
         return 2
     path = Path(argv[0])
-    trials = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+    trials = list(load_finished(path).values())  # a line cut short by a kill is skipped
     hands = argv[1:] or sorted({t["hand"] for t in trials})
     for hand in hands:
         print(f"{hand}:\n")

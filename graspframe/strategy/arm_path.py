@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import MotionError
-from graspframe.floating_base import T_world_base_for, floating_base
+from graspframe.floating_base import mount_floating
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.objects import ObjectDescription
@@ -40,7 +40,7 @@ from graspframe.motion.collision import RobotCollisionChecker, object_obstacle, 
 from graspframe.motion.ik import IkSolver
 from graspframe.motion.trajectory import JointLimits, plan_joint_trajectory
 from graspframe.mounting import MountedRobot, mount
-from graspframe.robot_model import CollisionModel, summarize_urdf
+from graspframe.robot_model import summarize_urdf
 from graspframe.strategy.planner import (
     GraspPlan,
     PlannerParams,
@@ -225,9 +225,7 @@ def floating_plan(
     plan = plan_grasp(
         grasp, T_object_human_palm, T_world_object_est, hand, obj, table_height, params
     )
-    robot = mount(floating_base(), hand)
-    T_flange_palm = CollisionModel(hand.model_path).T_root_frame(hand.palm_frame)
-    T_world_base = T_world_base_for(plan.T_world_palm_via, T_flange_palm)
+    robot, T_world_base = mount_floating(hand, plan.T_world_palm_via)
     problem = path_problem(plan, robot, T_world_base, hand, obj, table_height)
     if problem is not None:
         raise PlanningError(f"no collision-free path for the free {hand.name} hand: {problem}")

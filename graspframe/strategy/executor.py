@@ -370,9 +370,7 @@ class _Execution:
         )
 
     def _lift(self, outcome: GraspOutcome) -> None:
-        result = held_test.lift(
-            self.world, self.motion, self.p.lift_height, self.p.lift_speed, self.p.hold_time
-        )
+        result = held_test.lift(self.world, self.motion, self.p.lift_height, self.p.lift_speed)
         outcome.object_rise = result.object_rise
         outcome.lift_motion = result.motion
         outcome.held_after_lift = result.held
@@ -448,9 +446,6 @@ class _Execution:
         if np.linalg.norm(shift_world) <= CENTRING_TOLERANCE:
             return None
         return shift_world
-
-    def _T_palm_object(self) -> NDArray[np.float64]:
-        return inv_T(self.world.hand.T_world_palm()) @ self.world.object.T_world_object()
 
     def _snapshot(self, label: str, contacts: list[Contact]) -> None:
         """The robot's joints, the object and the contacts now, for pictures."""

@@ -136,6 +136,65 @@ def disturb(world: World, obj: ObjectDescription) -> dict[str, InHandMotion]:
     return motion_by_direction
 
 
+@dataclass(frozen=True)
+class HeldVerdict:
+    """The outcome of `run`.
+
+    under_disturbance: None when the disturbance test did not run (the lift failed, or
+    the backend cannot push). failure: why it did not hold, in words (None: it held).
+    """
+
+    after_lift: bool
+    under_disturbance: bool | None
+    failure: str | None
+
+    @property
+    def held(self) -> bool:
+        return self.failure is None and self.after_lift
+
+    def to_dict(self) -> dict:
+        return {
+            "held": self.held,
+            "held_after_lift": self.after_lift,
+            "held_under_disturbance": self.under_disturbance,
+            "failure": self.failure,
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict) -> HeldVerdict:
+        return cls(bool(data["held_after_lift"]), data["held_under_disturbance"], data["failure"])
+
+
+def run(world: World, motion: ArmMotion, obj: ObjectDescription) -> HeldVerdict:
+    """The whole held test on the grasp now in `world`: the lift, then (when it held and
+    the backend can push) the disturbance."""
+    lifted = lift(world, motion)
+    if not lifted.held:
+        failure = lift_failure(lifted.object_rise, LIFT_HEIGHT, lifted.motion)
+        return HeldVerdict(after_lift=False, under_disturbance=None, failure=failure)
+    try:
+        pushed = disturb(world, obj)
+    except NotImplementedError:
+        return HeldVerdict(after_lift=True, under_disturbance=None, failure=None)
+    failure = disturbance_failure(pushed)
+    return HeldVerdict(after_lift=True, under_disturbance=failure is None, failure=failure)
+
+
+def criteria() -> tuple:
+    """Every constant the verdict depends on (for cache keys of stored verdicts)."""
+    return (
+        LIFT_HEIGHT,
+        LIFT_SPEED,
+        SETTLE_TIME,
+        HELD_RISE_FRACTION,
+        MAX_SHIFT_IN_HAND,
+        MAX_TURN_IN_HAND_DEG,
+        DISTURBANCE_FRACTION,
+        DISTURBANCE_TIME,
+        tuple(DISTURBANCE_DIRECTIONS),
+    )
+
+
 def disturbance_force(obj: ObjectDescription) -> float:
     """[N] the push of the disturbance test on `obj`."""
     return DISTURBANCE_FRACTION * obj.mass * GRAVITY

@@ -34,17 +34,18 @@ import numpy as np
 
 from graspframe.contacts import Contact
 from graspframe.errors import InputError
-from graspframe.floating_base import T_world_base_for, floating_base
+from graspframe.floating_base import mount_floating
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import Backend, WorldConfig
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
-from graspframe.mounting import cache_dir, mount
+from graspframe.mounting import cache_dir
 from graspframe.results import read_json_file, write_json
-from graspframe.robot_model import CollisionModel
 from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
 from graspframe.strategy import held_test
+from graspframe.strategy.executor import APPROACH_SPEED  # the robots' non-volar approach
+from graspframe.strategy.held_test import HeldVerdict
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 
@@ -54,38 +55,8 @@ PROCEDURE_VERSION = 3
 SETTLE_TIME = 1.0  # [s] after the slowest joint could have reached its closed target
 # The hand takes its open posture this far back along its palm normal, then approaches.
 APPROACH_DISTANCE = 0.08  # [m]
-APPROACH_SPEED = 0.05  # [m/s], the robots' non-volar approach speed
 # Where the object stands in the reference world (the hand floats, so any place works).
 T_WORLD_OBJECT_XY = (0.0, 0.0)
-
-
-@dataclass(frozen=True)
-class HeldVerdict:
-    """The held test of a simulated human grasp.
-
-    under_disturbance: None when the disturbance test did not run (the lift failed, or
-    the backend cannot push). failure: why it did not hold, in words (None: it held).
-    """
-
-    after_lift: bool
-    under_disturbance: bool | None
-    failure: str | None
-
-    @property
-    def held(self) -> bool:
-        return self.failure is None and self.after_lift
-
-    def to_dict(self) -> dict:
-        return {
-            "held": self.held,
-            "held_after_lift": self.after_lift,
-            "held_under_disturbance": self.under_disturbance,
-            "failure": self.failure,
-        }
-
-    @classmethod
-    def from_dict(cls, data: dict) -> HeldVerdict:
-        return cls(bool(data["held_after_lift"]), data["held_under_disturbance"], data["failure"])
 
 
 @dataclass(frozen=True)
@@ -194,14 +165,13 @@ def simulate_human_grasp(
     z_palm = T_world_palm[:3, 2]
     T_world_palm_start = T_world_palm.copy()
     T_world_palm_start[:3, 3] -= APPROACH_DISTANCE * z_palm
-    robot = mount(floating_base(), human)
-    T_flange_palm = CollisionModel(human.model_path).T_root_frame(human.palm_frame)
+    robot, T_world_base = mount_floating(human, T_world_palm_start)
     config = WorldConfig(
         hand=human,
         arm=robot.arm,
         object=obj,
         T_flange_hand=robot.T_flange_hand,
-        T_world_arm_base=T_world_base_for(T_world_palm_start, T_flange_palm),
+        T_world_arm_base=T_world_base,
         T_world_object=T_world_object,
     )
     moments: list[Snapshot] = []
@@ -216,7 +186,7 @@ def simulate_human_grasp(
         hold_contacts = world.hand.contacts()
         T_world_object_at_hold = world.object.T_world_object()
         moments.append(_snapshot("hold", world, hold_contacts))
-        held = _held_test(world, motion, obj)
+        held = held_test.run(world, motion, obj)
         moments.append(_snapshot("after lift and pushes", world, world.hand.contacts()))
     contacts = tuple(c.in_frame(T_world_object_at_hold) for c in hold_contacts)
     reference = HumanReference(grasp, obj.name, contacts, "simulated", held, picture)
@@ -242,20 +212,6 @@ def _draw(
     draw_snapshots(path, scene, moments, title)
 
 
-def _held_test(world, motion: ArmMotion, obj: ObjectDescription) -> HeldVerdict:
-    """The robots' held test on the human grasp now in `world`."""
-    lifted = held_test.lift(world, motion)
-    if not lifted.held:
-        failure = held_test.lift_failure(lifted.object_rise, held_test.LIFT_HEIGHT, lifted.motion)
-        return HeldVerdict(after_lift=False, under_disturbance=None, failure=failure)
-    try:
-        pushed = held_test.disturb(world, obj)
-    except NotImplementedError:
-        return HeldVerdict(after_lift=True, under_disturbance=None, failure=None)
-    failure = held_test.disturbance_failure(pushed)
-    return HeldVerdict(after_lift=True, under_disturbance=failure is None, failure=failure)
-
-
 def _travel_time(hand: HandDescription, q_from: dict, q_to: dict) -> float:
     """[s] for the slowest joint to go from q_from to q_to at its velocity limit."""
     return max(
@@ -275,6 +231,10 @@ def _cache_key(grasp: HumanGrasp, obj: ObjectDescription, human: HandDescription
     digest.update(repr(sorted(human.preshape_for(grasp).closed_q.items())).encode())
     digest.update(repr(sorted(human.preshape_for(grasp).open_q.items())).encode())
     digest.update(repr((obj.shape, sorted(obj.dimensions.items()), obj.mass)).encode())
+    digest.update(repr((obj.static_friction, obj.dynamic_friction, human.drive)).encode())
+    # The stored held verdict depends on how the grasp is made and judged.
+    procedure = (APPROACH_DISTANCE, APPROACH_SPEED, SETTLE_TIME, held_test.criteria())
+    digest.update(repr(procedure).encode())
     return f"{grasp.value}_{obj.name}_{digest.hexdigest()[:12]}"
 
 

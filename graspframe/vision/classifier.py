@@ -24,7 +24,7 @@ from graspframe.hal.classifier import Classifier, HumanGraspEstimate, Neighbour
 from graspframe.transforms import R_from_quat_xyzw
 from graspframe.vision.database import ViewDatabase, load_database
 from graspframe.vision.features import hog_descriptor
-from graspframe.vision.index import NeighbourIndex
+from graspframe.vision.index import NeighbourIndex, weighted_vote
 from graspframe.vision.rotations import average_rotations
 from graspframe.vision.segmentation import segment_hand
 from graspframe.vision.views import GRASPS
@@ -33,7 +33,6 @@ DEFAULT_K = 8
 MAX_SIDE = 4096  # [px] larger images are refused
 MIN_SIDE = 32  # [px] smaller images are refused
 DEFAULT_FOV_X_DEG = 60.0  # [deg] assumed horizontal field of view for p_cam_hand
-DISTANCE_FLOOR = 1e-6  # keeps the 1 / distance weight finite for an exact match
 # Reflection of the camera x axis: a left hand is classified in the mirrored image.
 MIRROR_X = np.diag([-1.0, 1.0, 1.0])
 FLIP_Y = np.diag([1.0, -1.0, 1.0])
@@ -152,9 +151,8 @@ class HogKnnClassifier(Classifier):
     def _estimate(self, db, distances, ids, crop, shape) -> HumanGraspEstimate:
         valid = ids >= 0
         distances, ids = distances[valid], ids[valid]
-        weights = 1.0 / np.maximum(distances, DISTANCE_FLOOR)
         labels = db.labels[ids]
-        votes = np.bincount(labels, weights=weights, minlength=len(GRASPS))
+        weights, votes = weighted_vote(labels, distances, len(GRASPS))
         winner = int(np.argmax(votes))
         same = labels == winner
         rotations = np.array([R_from_quat_xyzw(q) for q in db.quat_xyzw[ids]])

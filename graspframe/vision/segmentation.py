@@ -162,8 +162,7 @@ def segment_hand(image_bgr: NDArray[np.uint8]) -> HandCrop:
     """
     check_not_blank(image_bgr)
     h, w = image_bgr.shape[:2]
-    cleaned = _clean(skin_pixels(image_bgr))
-    mask = _largest_regions(cleaned)
+    mask = hand_mask(image_bgr)
     if not _touches_border(mask):
         return crop_hand(image_bgr, mask)
     from graspframe.vision.hands import detect_hand
@@ -216,8 +215,8 @@ def landmark_mask(image_bgr: NDArray[np.uint8], hand) -> NDArray[np.uint8]:
     mask[y0:y1, x0:x1] = np.where((d2 <= SKIN_SIGMAS**2) | (bones > 0), 255, 0)
     axis = points[MIDDLE_MCP] - points[WRIST]
     length2 = float(axis @ axis)
-    if length2 > 0:
-        vv, uu = np.mgrid[0:h, 0:w]
+    if length2 > 0:  # only the box can hold hand pixels: cut the forearm there
+        vv, uu = np.mgrid[y0:y1, x0:x1]
         along = (uu - points[WRIST][0]) * axis[0] + (vv - points[WRIST][1]) * axis[1]
-        mask[along < WRIST_CUT * length2] = 0
+        mask[y0:y1, x0:x1][along < WRIST_CUT * length2] = 0
     return _largest_regions(_clean(mask))

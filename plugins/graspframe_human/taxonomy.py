@@ -14,8 +14,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from graspframe.grasps import PALM, THUMB, HumanGrasp
+from graspframe_human.description import FINGERS
 
-FINGERS = ("index", "middle", "ring", "little")
 # The segments of a digit, by link name suffix; "tip" is the marker at the distal end.
 DISTAL = ("distal", "tip")
 

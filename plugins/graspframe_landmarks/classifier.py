@@ -20,12 +20,12 @@ from graspframe.errors import InputError, NotAvailableError
 from graspframe.hal.classifier import Classifier, HumanGraspEstimate, Neighbour
 from graspframe.vision import hands
 from graspframe.vision.classifier import check_image
+from graspframe.vision.index import weighted_vote
 from graspframe.vision.segmentation import NoHandFoundError
 from graspframe_landmarks.features import angle_features, palm_frame
 from graspframe_landmarks.postures import GRASP_ORDER, PostureTable, posture_table
 
 DEFAULT_K = 8
-DISTANCE_FLOOR = 1e-6  # [rad] keeps the 1 / distance weight finite for an exact match
 
 
 def require_detector() -> None:
@@ -50,8 +50,7 @@ def estimate_from_landmarks(
     query = angle_features(points_cam)
     distances = np.linalg.norm(table.features - query, axis=1)  # [rad]
     ids = np.argsort(distances)[: min(k, len(distances))]
-    weights = 1.0 / np.maximum(distances[ids], DISTANCE_FLOOR)
-    votes = np.bincount(table.grasps[ids], weights=weights, minlength=len(GRASP_ORDER))
+    _, votes = weighted_vote(table.grasps[ids], distances[ids], len(GRASP_ORDER))
     winner = int(np.argmax(votes))
     R_cam_hand = palm_frame(points_cam, left=left)
     neighbours = tuple(

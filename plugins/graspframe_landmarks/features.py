@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.vision.classifier import unmirror
+from graspframe.vision.classifier import MIRROR_X, unmirror
 
 WRIST = 0
 THUMB = (1, 2, 3, 4)  # CMC, MCP, IP, tip
@@ -42,9 +42,6 @@ FEATURE_NAMES = (
     "spread_ring_little",
     "spread_thumb_index",
 )
-# Reflection of the camera x axis: a left hand's points are mirrored into a right hand,
-# and its palm frame mapped back by `unmirror` (as the hog_knn classifier does).
-MIRROR_X = np.diag([-1.0, 1.0, 1.0])
 
 
 def _angle(a: NDArray[np.float64], b: NDArray[np.float64]) -> float:

@@ -37,11 +37,10 @@ LANDMARK_FRAMES = (
 @dataclass(frozen=True)
 class PostureTable:
     """The sampled postures: `features` (N, 19) [rad], `grasps` (N,) indices into
-    GRASP_ORDER, `closures` (N,) [-], `R_wrist_palm` the model's palm frame in hh_wrist."""
+    GRASP_ORDER, `R_wrist_palm` the model's palm frame in hh_wrist."""
 
     features: NDArray[np.float64]
     grasps: NDArray[np.int64]
-    closures: NDArray[np.float64]
     R_wrist_palm: NDArray[np.float64]
 
 
@@ -73,21 +72,16 @@ class HumanModelLandmarks:
         return np.array([self.model.T_root_frame(f)[:3, 3] for f in LANDMARK_FRAMES])
 
     def R_wrist_palm(self) -> NDArray[np.float64]:
-        from graspframe_human.description import PALM_FRAME
-
-        return self.model.T_root_frame(PALM_FRAME)[:3, :3]
+        return self.model.T_root_frame(self.hand.palm_frame)[:3, :3]
 
 
 @functools.cache
 def posture_table() -> PostureTable:
     """Every grasp's postures at CLOSURES, as angle features (built once per process)."""
     kinematics = HumanModelLandmarks()
-    features, grasps, closures = [], [], []
+    features, grasps = [], []
     for index, grasp in enumerate(GRASP_ORDER):
         for closure in CLOSURES:
             features.append(angle_features(kinematics.points(kinematics.posture(grasp, closure))))
             grasps.append(index)
-            closures.append(closure)
-    return PostureTable(
-        np.array(features), np.array(grasps), np.array(closures), kinematics.R_wrist_palm()
-    )
+    return PostureTable(np.array(features), np.array(grasps), kinematics.R_wrist_palm())
