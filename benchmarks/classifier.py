@@ -1,6 +1,10 @@
 """Benchmark of the hog_knn classifier on held-out renders.
 
     python benchmarks/classifier.py [--db PATH] [--test-views N] [--k K] [--seed S]
+    python benchmarks/classifier.py --real DIR [--classifier NAME] [--k K]
+
+With --real, benchmarks real photographs instead (see benchmarks/classifier_real.py:
+top-1 per class, confusion matrix, refusal rate, latency).
 
 Held-out renders come from the "held_out" view distribution (other hand sizes, lighting
 ranges, striped/checked backgrounds, more sensor noise) with a seed the database did not
@@ -19,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from graspframe.vision.classifier import DEFAULT_K, HogKnnClassifier
+from graspframe.vision.classifier import DEFAULT_K, HogKnnClassifier, UncertainGraspError
 from graspframe.vision.database import (
     build_database,
     iter_views,
@@ -38,12 +42,15 @@ def evaluate(db, views, k: int, index_kind: str = "hnsw") -> dict:
     classifier = HogKnnClassifier.from_database(db, k=k, index_kind=index_kind)
     _ = classifier.index
     truth, predicted, errors, correct_errors, timings = [], [], [], [], []
-    no_hand = 0
+    no_hand = uncertain = 0
     for view in views:
         try:
             estimate, t = classifier.classify_timed(view.image)
         except NoHandFoundError:
             no_hand += 1
+            continue
+        except UncertainGraspError:
+            uncertain += 1
             continue
         truth.append(GRASPS.index(view.grasp))
         predicted.append(GRASPS.index(estimate.grasp))
@@ -58,7 +65,9 @@ def evaluate(db, views, k: int, index_kind: str = "hnsw") -> dict:
     return {
         "n": len(truth),
         "no_hand": no_hand,
-        "accuracy": float(np.mean(truth == predicted)),
+        "uncertain": uncertain,
+        # refused as uncertain counts wrong; views without a segmentable hand are left out
+        "accuracy": float(np.sum(truth == predicted) / (len(truth) + uncertain)),
         "confusion": confusion,
         "errors": np.array(errors),
         "correct_errors": np.array(correct_errors),
@@ -100,7 +109,14 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=TEST_SEED)
     parser.add_argument("--build-views", type=int, default=0, help="also time a build of N/grasp")
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--real", type=Path, default=None, help="folder of real photos")
+    parser.add_argument("--classifier", default="hog_knn", help="with --real: classifier name")
     args = parser.parse_args()
+    if args.real is not None:
+        from classifier_real import benchmark_folder  # the sibling script in benchmarks/
+
+        benchmark_folder(args.real, args.classifier, args.k)
+        return
 
     db = load_database(args.db)
     size = db.metadata["build"]["size_px"]
@@ -111,7 +127,8 @@ def main() -> None:
 
     result = evaluate(db, views, args.k)
     print(
-        f"\ntop-1 accuracy: {result['accuracy']:.3f} on {result['n']} views "
+        f"\ntop-1 accuracy: {result['accuracy']:.3f} on {result['n'] + result['uncertain']} "
+        f"views, {result['uncertain']} refused as uncertain counted wrong "
         f"(chance {1 / len(GRASPS):.3f}; {result['no_hand']} views without a segmentable hand)"
     )
     print("confusion (rows: truth, columns: estimate):")

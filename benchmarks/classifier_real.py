@@ -106,18 +106,23 @@ def main() -> int:
     parser.add_argument("--k", type=int, default=DEFAULT_K)
     parser.add_argument("--classifier", default="hog_knn", help="registered classifier name")
     args = parser.parse_args()
-    if not args.folder.is_dir():
-        print(f"{args.folder}: no such folder; nothing to benchmark")
-        return 0
-    rows = read_labels(args.folder)
+    benchmark_folder(args.folder, args.classifier, args.k)
+    return 0
+
+
+def benchmark_folder(folder: Path, classifier_name: str, k: int) -> None:
+    """Classify every labelled photo in `folder` and print the report."""
+    if not folder.is_dir():
+        print(f"{folder}: no such folder; nothing to benchmark")
+        return
+    rows = read_labels(folder)
     try:
-        classifier = get_classifier(args.classifier)(k=args.k)
+        classifier = get_classifier(classifier_name)(k=k)
     except GraspframeError as exc:
         raise SystemExit(f"error: {exc}") from None
     classify_all(classifier, rows[:1])  # load databases and detectors before timing
-    print(f"classifier {args.classifier}, k {args.k}")
+    print(f"classifier {classifier_name}, k {k}")
     report(classify_all(classifier, rows))
-    return 0
 
 
 if __name__ == "__main__":
