@@ -18,7 +18,18 @@ from pathlib import Path
 import numpy as np
 
 from graspframe.errors import GraspframeError, InputError
-from graspframe.events import RunEvent, RunInfo
+from graspframe.events import (
+    CLASSIFY_DONE,
+    CLASSIFY_IMAGES,
+    EXECUTE_SNAPSHOT,
+    MOTION_CYCLE,
+    PLAN_DONE,
+    SCORE_DONE,
+    WORLD_BUILT,
+    EventKind,
+    RunEvent,
+    RunInfo,
+)
 from graspframe.grasps import HUMAN_HAND, PALM, HumanGrasp
 from graspframe.hal.drivers import WorldConfig
 from graspframe.metrics.quality import grasp_quality
@@ -45,8 +56,6 @@ TABLE_HEIGHT = 0.0  # [m]
 MOUNT_ARM, MOUNT_FLOATING = "arm", "floating"
 MOUNTS = (MOUNT_ARM, MOUNT_FLOATING)
 MAX_OBJECT_ERROR = 0.5  # [m] larger injected errors are surely a unit mistake
-# Per-cycle samples and bulky data go to the observers (the recording), not result.json.
-OBSERVER_ONLY_EVENTS = frozenset({"motion.cycle", "score.done", "classify.images"})
 
 
 @dataclass(frozen=True)
@@ -109,10 +118,12 @@ class _Recorder:
     events: list[dict] = field(default_factory=list)
     clock: Callable[[], float | None] = lambda: None
 
-    def emit(self, kind: str, **data) -> None:
-        event = RunEvent(kind, self.clock(), data)
-        if kind not in OBSERVER_ONLY_EVENTS:
-            self.events.append({"kind": kind, "sim_time": event.sim_time, **data})
+    def emit(self, kind: EventKind, **data) -> None:
+        """Send an event of a declared kind; its payload must match the declaration."""
+        kind.check(data)
+        event = RunEvent(kind.name, self.clock(), data)
+        if not kind.observer_only:
+            self.events.append({"kind": kind.name, "sim_time": event.sim_time, **data})
         self.registry.notify_run_event(self.run, event)
 
 
@@ -256,8 +267,8 @@ def _human_grasp(request, inputs, registry, recorder, result, progress):
         "T_object_hand": T_object_hand,
     }
     result["classification"] = classification
-    recorder.emit("classify.done", **classification)
-    recorder.emit("classify.images", image_bgr=inputs.image, mask=_hand_mask(inputs.image))
+    recorder.emit(CLASSIFY_DONE, **classification)
+    recorder.emit(CLASSIFY_IMAGES, image_bgr=inputs.image, mask=_hand_mask(inputs.image))
     return grasp, T_object_hand, scene.T_world_object
 
 
@@ -297,7 +308,7 @@ def _execute(request, inputs, registry, recorder, result, progress):
     checked = _plan(request, inputs, grasp, T_object_human_palm, T_world_object_est)
     plan = checked.plan
     result["plan"] = {**plan.to_dict(), "variants_refused": list(checked.refused)}
-    recorder.emit("plan.done", **result["plan"])
+    recorder.emit(PLAN_DONE, **result["plan"])
 
     progress("building the world")
     config = WorldConfig(
@@ -315,7 +326,7 @@ def _execute(request, inputs, registry, recorder, result, progress):
     with inputs.backend_cls().create_world(config) as world:
         recorder.clock = lambda: world.time
         recorder.emit(
-            "world.built",
+            WORLD_BUILT,
             hand=hand.name,
             arm=checked.robot.arm.name,
             arm_joint_names=checked.robot.arm.joint_names,
@@ -330,7 +341,7 @@ def _execute(request, inputs, registry, recorder, result, progress):
         def on_cycle(motion: ArmMotion) -> None:
             T_world_palm = world.hand.T_world_palm()
             recorder.emit(
-                "motion.cycle",
+                MOTION_CYCLE,
                 q_arm=world.arm.joint_positions(),
                 q_hand=world.hand.joint_positions(),
                 T_world_palm=T_world_palm,
@@ -342,8 +353,8 @@ def _execute(request, inputs, registry, recorder, result, progress):
                 ),
             )
 
-        def emit(kind: str, **data) -> None:
-            if kind == "execute.snapshot":
+        def emit(kind: EventKind, **data) -> None:
+            if kind is EXECUTE_SNAPSHOT:
                 snapshots.append(data)
             recorder.emit(kind, **data)
 
@@ -370,7 +381,7 @@ def _execute(request, inputs, registry, recorder, result, progress):
         "human": _quality(list(reference.contacts), obj),
     }
     recorder.emit(
-        "score.done",
+        SCORE_DONE,
         score=result["score"],
         human_contacts=list(reference.contacts),
         robot_contacts_object=[c.in_frame(T_world_object_scored) for c in outcome.contacts],

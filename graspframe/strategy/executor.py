@@ -6,9 +6,10 @@ pre-approach pose; approach along a (volar: until the first contact, correcting 
 while that contact is not on the palm, then centring the object on the grasp centre from
 where it touches the palm; non-volar: to the standoff goal, no feedback);
 close the hand; hold; lift; push the object (the disturbance test). Every step is
-reported as an event through `emit(kind, **data)`; "execute.snapshot" events carry the
-robot's joint values and the contacts at first contact, at the hold and after the lift,
-for pictures of the grasp.
+reported as an event through `emit(kind, **data)`, `kind` one of the "execute.*" kinds
+declared in graspframe/events.py; EXECUTE_SNAPSHOT events carry the robot's joint values
+and the contacts at first contact, at the hold and after the lift, for pictures of the
+grasp.
 
 "Held": the held test of held_test.py (docs/method.md#held), after the hold.
 """
@@ -21,6 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from graspframe import events
 from graspframe.contacts import Contact
 from graspframe.errors import GraspframeError, MotionError
 from graspframe.grasps import PALM
@@ -126,6 +128,7 @@ class GraspOutcome:
         return None
 
 
+# emit(kind: EventKind, **payload): reports one event of a declared kind.
 Emit = Callable[..., None]
 
 
@@ -151,7 +154,7 @@ def execute_plan(
     try:
         return _Execution(plan, world, motion, hand, obj, p, emit).run()
     except MotionError as exc:
-        emit("execute.aborted", reason=str(exc))
+        emit(events.EXECUTE_ABORTED, reason=str(exc))
         return GraspOutcome(
             contacts=world.hand.contacts(),
             T_world_object_at_hold=world.object.T_world_object(),
@@ -199,7 +202,7 @@ class _Execution:
         contacts = self.world.hand.contacts()
         T_world_object_at_hold = self.world.object.T_world_object()
         self.emit(
-            "execute.hold",
+            events.EXECUTE_HOLD,
             fingers=sorted({c.real_finger for c in contacts}),
             n_contacts=len(contacts),
             contacts=contacts,
@@ -230,7 +233,7 @@ class _Execution:
     def _move_to_pre_approach(self, open_q) -> None:
         plan, motion = self.plan, self.motion
         self.world.hand.set_joint_targets(open_q)
-        self.emit("execute.preshape", preshape=plan.preshape)
+        self.emit(events.EXECUTE_PRESHAPE, preshape=plan.preshape)
         duration = motion.move_palm_to(plan.T_world_palm_via)
         descent = plan.T_world_palm_via[:3, 3] - plan.T_world_palm_pre[:3, 3]
         if np.linalg.norm(descent) > 1e-6:
@@ -241,7 +244,9 @@ class _Execution:
                 stop_on_contact=False,
             ).duration
         self.emit(
-            "execute.pre_approach", duration=duration, T_world_palm=self.world.hand.T_world_palm()
+            events.EXECUTE_PRE_APPROACH,
+            duration=duration,
+            T_world_palm=self.world.hand.T_world_palm(),
         )
 
     def _approach_non_volar(self) -> bool:
@@ -252,7 +257,9 @@ class _Execution:
             self.p.approach_speed,
             stop_on_contact=False,
         )
-        self.emit("execute.approach", travel=result.travel, stopped=False, cycles=result.cycles)
+        self.emit(
+            events.EXECUTE_APPROACH, travel=result.travel, stopped=False, cycles=result.cycles
+        )
         self._snapshot("approach end", self.world.hand.contacts())
         return any(c.real_finger == PALM for c in self.world.hand.contacts())
 
@@ -271,18 +278,18 @@ class _Execution:
                 a, d_start + p.approach_overshoot, p.guarded_approach_speed
             )
             emit(
-                "execute.approach",
+                events.EXECUTE_APPROACH,
                 travel=result.travel,
                 stopped=result.stopped_by_contact,
                 cycles=result.cycles,
             )
             if not result.stopped_by_contact:
-                emit("execute.no_contact", goal=T_goal[:3, 3])
+                emit(events.EXECUTE_NO_CONTACT, goal=T_goal[:3, 3])
                 self._snapshot("approach end", [])
                 return corrections, False, goals
             contact = result.first_contact
             emit(
-                "execute.first_contact",
+                events.EXECUTE_FIRST_CONTACT,
                 link=contact.link,
                 real_finger=contact.real_finger,
                 p_world=contact.p_world,
@@ -293,7 +300,7 @@ class _Execution:
                 self._snapshot("first contact", self.world.hand.contacts())
                 return corrections, True, goals
             if corrections >= p.max_corrections:
-                emit("execute.corrections_exhausted", corrections=corrections)
+                emit(events.EXECUTE_CORRECTIONS_EXHAUSTED, corrections=corrections)
                 self._snapshot("first contact", self.world.hand.contacts())
                 return corrections, result.palm_touched, goals
             # Retreat along the approach line, move the goal, go again: towards a finger
@@ -314,7 +321,7 @@ class _Execution:
             T_goal[:3, 3] = p_goal_new
             corrections += 1
             emit(
-                "execute.correction",
+                events.EXECUTE_CORRECTION,
                 index=corrections,
                 reason="finger first" if centring is None else "palm off centre",
                 alpha=alpha if centring is None else None,
@@ -346,7 +353,7 @@ class _Execution:
         result = self.motion.move_palm_linear(
             -self.plan.a_world, gap, self.p.approach_speed, stop_on_contact=False
         )
-        self.emit("execute.back_off", gap=gap, travel=-result.travel)
+        self.emit(events.EXECUTE_BACK_OFF, gap=gap, travel=-result.travel)
 
     def _close(self, closed_q) -> None:
         world = self.world
@@ -366,7 +373,7 @@ class _Execution:
             if world.time - start > 0.2 and speed < SETTLED_SPEED:
                 break
         self.emit(
-            "execute.closed", duration=world.time - start, q=dict(world.hand.joint_positions())
+            events.EXECUTE_CLOSED, duration=world.time - start, q=dict(world.hand.joint_positions())
         )
 
     def _lift(self, outcome: GraspOutcome) -> None:
@@ -376,7 +383,7 @@ class _Execution:
         outcome.held_after_lift = result.held
         outcome.fingers_after_lift = sorted({c.real_finger for c in result.contacts})
         self.emit(
-            "execute.lift",
+            events.EXECUTE_LIFT,
             object_rise=result.object_rise,
             held=result.held,
             fingers=outcome.fingers_after_lift,
@@ -391,11 +398,11 @@ class _Execution:
         except NotImplementedError as exc:
             outcome.disturbance_skipped = str(exc)
             outcome.disturbance.clear()
-            self.emit("execute.disturbance", skipped=str(exc))
+            self.emit(events.EXECUTE_DISTURBANCE, skipped=str(exc))
             return
         outcome.held_under_disturbance = held_test.first_slip(outcome.disturbance) is None
         self.emit(
-            "execute.disturbance",
+            events.EXECUTE_DISTURBANCE,
             force=held_test.disturbance_force(self.obj),
             held=outcome.held_under_disturbance,
             motion={d: m.to_dict() for d, m in outcome.disturbance.items()},
@@ -451,7 +458,7 @@ class _Execution:
         """The robot's joints, the object and the contacts now, for pictures."""
         world = self.world
         self.emit(
-            "execute.snapshot",
+            events.EXECUTE_SNAPSHOT,
             label=label,
             q_arm=None if world.arm is None else world.arm.joint_positions(),
             q_hand=world.hand.joint_positions(),

@@ -9,9 +9,10 @@ Entity layout (all in the world frame, z up, metres):
     world/corrections                        goal corrections of the volar strategy
     vf/robot, vf/human                       virtual fingers, object frame, side by side
     plots/joints/<joint>, plots/palm_sensor, plots/distance_to_goal   scalars
-    vision/input, vision/mask, vision/neighbours/<k>   classification images
+    vision/input, vision/mask                classification image and hand mask
     log                                      the run's events as text
 Timeline "sim_time" [s]: simulation time of each sample.
+The events are those declared in graspframe/events.py.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from pathlib import Path
 import numpy as np
 import rerun as rr
 
+from graspframe import events
 from graspframe.grasps import PALM
 from graspframe.registry import default_registry
 from graspframe.robot_model import CollisionModel
@@ -87,6 +89,16 @@ class RunRecording:
         self._arm_joint_names: tuple[str, ...] = ()
         self._palm_path: list[np.ndarray] = []
         self._shape_entities: list[str] = []
+        self._handlers = {
+            events.WORLD_BUILT.name: self._on_world_built,
+            events.PLAN_DONE.name: self._on_plan_done,
+            events.MOTION_CYCLE.name: self._on_motion_cycle,
+            events.EXECUTE_FIRST_CONTACT.name: self._on_execute_first_contact,
+            events.EXECUTE_CORRECTION.name: self._on_execute_correction,
+            events.EXECUTE_HOLD.name: self._on_execute_hold,
+            events.SCORE_DONE.name: self._on_score_done,
+            events.CLASSIFY_IMAGES.name: self._on_classify_images,
+        }
 
     # -- helpers -----------------------------------------------------------------------------
 
@@ -103,11 +115,12 @@ class RunRecording:
     # -- events ------------------------------------------------------------------------------
 
     def handle(self, kind: str, sim_time: float | None, data: dict) -> None:
+        """Log one run event (`kind` the name of its EventKind) at `sim_time` [s]."""
         self._at(sim_time)
-        handler = getattr(self, "_on_" + kind.replace(".", "_"), None)
+        handler = self._handlers.get(kind)
         if handler is not None:
             handler(data)
-        if kind != "motion.cycle":
+        if kind != events.MOTION_CYCLE.name:  # one line per control cycle would drown the log
             self.text(kind + " " + ", ".join(f"{k}={_short(v)}" for k, v in data.items()))
 
     def _on_world_built(self, data: dict) -> None:
@@ -257,20 +270,15 @@ class RunRecording:
             )
 
     def _on_classify_images(self, data: dict) -> None:
-        if "image_bgr" in data:
-            self._log(
-                "vision/input", rr.Image(np.asarray(data["image_bgr"])[..., ::-1]), static=True
-            )
-        if "mask" in data:
-            self._log(
-                "vision/mask",
-                rr.SegmentationImage(np.asarray(data["mask"]).astype(np.uint8)),
-                static=True,
-            )
-        for k, thumbnail in enumerate(data.get("neighbours", [])):
-            self._log(f"vision/neighbours/{k}", rr.Image(np.asarray(thumbnail)), static=True)
+        self._log("vision/input", rr.Image(np.asarray(data["image_bgr"])[..., ::-1]), static=True)
+        self._log(
+            "vision/mask",
+            rr.SegmentationImage(np.asarray(data["mask"]).astype(np.uint8)),
+            static=True,
+        )
 
     def finish(self, result: dict) -> None:
+        """Log how the run ended and close the recording file."""
         self.text(f"run {result.get('status')}: {result.get('error', '')}")
         self.stream.flush()
         self.stream.disconnect()
