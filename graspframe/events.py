@@ -10,18 +10,31 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from graspframe.errors import GraspframeError
+
+if TYPE_CHECKING:
+    from graspframe.hal.descriptions import ArmDescription, HandDescription
+    from graspframe.hal.objects import ObjectDescription
 
 
 @dataclass(frozen=True)
 class RunInfo:
-    """Identity of a run: its id, output directory and the parameters it was started with."""
+    """Identity of a run: its id, output directory, the parameters it was started with,
+    and the descriptions of what it runs, so observers need no name lookups.
+
+    hand: the robot hand. arm: the arm the hand is mounted on (None when the hand rides
+    the floating base). object: the object to grasp. Each is None when the run was started
+    without it (a RunInfo made by hand).
+    """
 
     run_id: str
     out_dir: str
     params: dict[str, Any] = field(default_factory=dict)
+    hand: HandDescription | None = None
+    arm: ArmDescription | None = None
+    object: ObjectDescription | None = None
 
 
 @dataclass(frozen=True)

@@ -197,7 +197,10 @@ def run_grasp(
     inputs = resolve(request, registry)
     label = request.grasp.value if request.grasp else Path(request.image or "demo").stem
     run_dir = new_run_dir(request.out_root, f"{inputs.hand.name}-{label}")
-    run = RunInfo(run_dir.name, str(run_dir), asdict(request))
+    arm = inputs.arm if request.mount == MOUNT_ARM else None
+    run = RunInfo(
+        run_dir.name, str(run_dir), asdict(request), hand=inputs.hand, arm=arm, object=inputs.obj
+    )
     recorder = _Recorder(registry, run)
     result: dict = {
         "run_id": run.run_id,

@@ -11,9 +11,14 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
+from graspframe_rerun.recording import RunRecording
 
 import graspframe.runner as runner
 from graspframe.cli import main
+from graspframe.errors import GraspframeError
+from graspframe.events import MOTION_CYCLE, WORLD_BUILT, RunInfo
+from graspframe.hal import ObjectDescription
+from graspframe.transforms import make_T
 
 EXPECTED_ENTITIES = (
     "/world/table",
@@ -155,3 +160,47 @@ def test_bad_user_inputs_give_their_error_and_exit_code(case, expected, tmp_path
         assert saved["status"] == "failed" and "NoHandFoundError" in saved["error"]
     else:  # found before anything ran
         assert not (tmp_path / "runs").exists()
+
+
+def test_the_recording_takes_the_hand_and_object_from_the_run(fake_hand, fake_hand_urdf, tmp_path):
+    # Neither the fake hand nor this can is registered: the recorder must not look them up.
+    can = ObjectDescription("unregistered_can", "cylinder", {"radius": 0.03, "length": 0.1}, 0.2)
+    run = RunInfo("r1", str(tmp_path), {"record": True}, hand=fake_hand, object=can)
+    recording = RunRecording(run)
+    T_world_object = make_T(p=[0.1, 0.0, 0.05])
+    recording.handle(
+        WORLD_BUILT.name,
+        0.0,
+        {
+            "hand": fake_hand.name,
+            "arm": "none",
+            "arm_joint_names": [],
+            "object": can.name,
+            "model_path": str(fake_hand_urdf),
+            "T_world_arm_base": np.eye(4),
+            "T_world_object": T_world_object,
+            "T_world_object_est": T_world_object,
+            "table_height": 0.0,
+        },
+    )
+    recording.handle(
+        MOTION_CYCLE.name,
+        0.01,
+        {
+            "q_arm": [],
+            "q_hand": {"fk_finger_joint": 0.3, "fk_thumb_joint": 0.3},
+            "T_world_palm": np.eye(4),
+            "T_world_object": T_world_object,
+            "palm_touched": False,
+            "distance_to_goal": 0.1,
+        },
+    )
+    recording.finish({"status": "ok"})
+    rows = rrd_rows(recording.path)
+    assert "/world/object" in rows and "/plots/joints/fk_finger_joint" in rows
+    assert any(entity.startswith("/world/robot/fk_finger/") for entity in rows)
+
+
+def test_a_recording_needs_the_descriptions_of_its_run(tmp_path):
+    with pytest.raises(GraspframeError, match="needs its hand and object"):
+        RunRecording(RunInfo("r1", str(tmp_path), {"record": True}))

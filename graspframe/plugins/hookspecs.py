@@ -51,7 +51,8 @@ def graspframe_register_objects(register: Register) -> None:
 
 @hookspec
 def graspframe_run_started(run: RunInfo) -> None:
-    """A run starts: `run` names it and gives its output directory and parameters."""
+    """A run starts: `run` names it and gives its output directory, its parameters and the
+    descriptions of its hand, arm and object."""
 
 
 @hookspec

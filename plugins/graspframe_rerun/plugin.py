@@ -14,7 +14,7 @@ _recordings: dict[str, RunRecording] = {}
 @hookimpl
 def graspframe_run_started(run):
     if run.params.get("record", False):
-        _recordings[run.run_id] = RunRecording(run.run_id, run.out_dir)
+        _recordings[run.run_id] = RunRecording(run)
 
 
 @hookimpl

@@ -12,7 +12,8 @@ Entity layout (all in the world frame, z up, metres):
     vision/input, vision/mask                classification image and hand mask
     log                                      the run's events as text
 Timeline "sim_time" [s]: simulation time of each sample.
-The events are those declared in graspframe/events.py.
+The hand and the object come from the run's RunInfo; the events are those declared in
+graspframe/events.py.
 """
 
 from __future__ import annotations
@@ -23,8 +24,9 @@ import numpy as np
 import rerun as rr
 
 from graspframe import events
+from graspframe.errors import GraspframeError
+from graspframe.events import RunInfo
 from graspframe.grasps import PALM
-from graspframe.registry import default_registry
 from graspframe.robot_model import CollisionModel
 
 FINGER_COLOURS = {
@@ -80,12 +82,15 @@ def _transform(T) -> rr.Transform3D:
 class RunRecording:
     """Receives the run's events and logs them to recording.rrd in the run folder."""
 
-    def __init__(self, run_id: str, out_dir: str):
-        self.path = Path(out_dir) / "recording.rrd"
-        self.stream = rr.RecordingStream("graspframe", recording_id=run_id)
+    def __init__(self, run: RunInfo):
+        if run.hand is None or run.object is None:
+            raise GraspframeError(f"run {run.run_id}: recording needs its hand and object")
+        self._hand = run.hand
+        self._object = run.object
+        self.path = Path(run.out_dir) / "recording.rrd"
+        self.stream = rr.RecordingStream("graspframe", recording_id=run.run_id)
         self.stream.save(str(self.path))
         self._model: CollisionModel | None = None
-        self._hand = None
         self._arm_joint_names: tuple[str, ...] = ()
         self._palm_path: list[np.ndarray] = []
         self._shape_entities: list[str] = []
@@ -124,10 +129,7 @@ class RunRecording:
             self.text(kind + " " + ", ".join(f"{k}={_short(v)}" for k, v in data.items()))
 
     def _on_world_built(self, data: dict) -> None:
-        registry = default_registry()
-        self._hand = registry.get_hand(data["hand"])
         self._arm_joint_names = tuple(data["arm_joint_names"])
-        obj = registry.get_object(data["object"])
         T_world_object = np.asarray(data["T_world_object"])
         table_centre = [*T_world_object[:2, 3], data["table_height"] - TABLE_HALF_SIZE[2]]
         self._log(
@@ -137,7 +139,7 @@ class RunRecording:
             ),
             static=True,
         )
-        self._log("world/object", _object_archetype(obj), static=True)
+        self._log("world/object", _object_archetype(self._object), static=True)
         self._log("world/object", _transform(T_world_object))
         self._log(
             "world/object_believed",
