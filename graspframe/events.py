@@ -3,7 +3,7 @@
 This module is the catalogue of run events: every kind a run emits is declared here once,
 as an `EventKind` with its payload fields, their units and frames. Emitters pass the
 declaration (`emit(EXECUTE_CORRECTION, index=1, ...)`), observers compare `event.kind`
-with its `name`.
+with its `name`. docs/hooks.md lists the same kinds and fields (a test checks it).
 """
 
 from __future__ import annotations

@@ -57,7 +57,8 @@ def graspframe_run_started(run: RunInfo) -> None:
 
 @hookspec
 def graspframe_run_event(run: RunInfo, event: RunEvent) -> None:
-    """Something happened during `run`: `event` has a kind, a sim_time and data."""
+    """Something happened during `run`: `event` has a kind (one of those declared in
+    graspframe/events.py), a sim_time and data (that kind's payload fields)."""
 
 
 @hookspec
