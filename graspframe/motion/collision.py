@@ -217,10 +217,10 @@ class RobotCollisionChecker:
                     raise GraspframeError(
                         f"ignore takes link names or (link, obstacle) pairs, got {item!r}"
                     )
-                link, obstacle = item
+                link, obstacle_name = item
                 self._check_names((link,), self.links, "link")
-                self._check_names((obstacle,), self.obstacle_names, "obstacle")
-                skipped_pairs.add((link, obstacle))
+                self._check_names((obstacle_name,), self.obstacle_names, "obstacle")
+                skipped_pairs.add((link, obstacle_name))
 
         T_root_world = inv_T(self.T_world_root)
         pair_links: list[str] = []

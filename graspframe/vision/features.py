@@ -43,4 +43,4 @@ def descriptor_size() -> int:
 
 def hog_descriptor(patch: NDArray[np.uint8]) -> NDArray[np.float32]:
     """HOG of one CROP_SIZE x CROP_SIZE grey patch -> (descriptor_size(),) float32."""
-    return _hog().compute(patch).reshape(-1).astype(np.float32)
+    return np.asarray(_hog().compute(patch)).reshape(-1).astype(np.float32)

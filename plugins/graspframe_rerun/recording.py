@@ -22,6 +22,7 @@ import numpy as np
 import rerun as rr
 
 from graspframe.grasps import PALM
+from graspframe.hal.descriptions import HandDescription
 from graspframe.registry import default_registry
 from graspframe.robot_model import CollisionModel
 
@@ -83,7 +84,7 @@ class RunRecording:
         self.stream = rr.RecordingStream("graspframe", recording_id=run_id)
         self.stream.save(str(self.path))
         self._model: CollisionModel | None = None
-        self._hand = None
+        self._hand: HandDescription | None = None
         self._arm_joint_names: tuple[str, ...] = ()
         self._palm_path: list[np.ndarray] = []
         self._shape_entities: list[str] = []
@@ -176,7 +177,7 @@ class RunRecording:
         )
 
     def _on_motion_cycle(self, data: dict) -> None:
-        if self._model is None:
+        if self._model is None or self._hand is None:
             return
         q_arm = np.asarray(data["q_arm"], dtype=float)
         q = dict(zip(self._arm_joint_names, q_arm, strict=True))
