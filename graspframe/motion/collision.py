@@ -204,7 +204,6 @@ class RobotCollisionChecker:
             (index, self.model.frames[g.parentFrame].name)
             for index, g in enumerate(self.geometry.geometryObjects)
         ]
-        self.links_with_shapes = tuple(dict.fromkeys(link for _, link in robot_shapes))
 
         skipped_links: set[str] = set()
         skipped_pairs: set[tuple[str, str]] = set()

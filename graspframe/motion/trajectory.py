@@ -303,14 +303,6 @@ class OnlineTrajectory:
         """The last target (or stop) has been reached."""
         return self._finished
 
-    def reset(self, q: ArrayLike) -> None:
-        """Forget any target and rest at q [rad] (e.g. the measured arm position)."""
-        self._q = self.limits.check_position(q, "q")
-        self._qd = np.zeros(self.limits.dof)
-        self._qdd = np.zeros(self.limits.dof)
-        self._active, self._finished = False, True
-        self._sync_input()
-
     def set_target(self, q_goal: ArrayLike, qd_goal: ArrayLike | None = None) -> None:
         """Move to q_goal [rad], arriving with velocity qd_goal [rad/s] (default 0).
 

@@ -35,7 +35,7 @@ class SapienWorld(World):
         self._steps = 0
 
         T_world_object = as_pose(config.T_world_object, "T_world_object")
-        self._table = build_table(self._scene, T_world_object[:2, 3], config.table_height)
+        build_table(self._scene, T_world_object[:2, 3], config.table_height)
         self._object_actor = None
         if config.object is not None:
             self._object_actor = build_object(self._scene, config.object, T_world_object)
