@@ -154,7 +154,7 @@ def combined_urdf_text(
     ET.SubElement(joint, "parent", {"link": arm.flange_link})
     ET.SubElement(joint, "child", {"link": hand.root_link})
     _origin(joint, T_flange_hand)
-    if adapter_names:
+    if mounting is not None and mounting.adapter:
         combined.append(_adapter_link(adapter_link, mounting))
         joint = ET.SubElement(combined, "joint", {"name": f"{adapter_link}_joint", "type": "fixed"})
         ET.SubElement(joint, "parent", {"link": hand.root_link})

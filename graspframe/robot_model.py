@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -146,7 +147,9 @@ class CollisionModel:
             parent_frame = self.model.frames[parent_frame.parentFrame]
         return None if parent_frame.name == "universe" else parent_frame.name
 
-    def colliding_links(self, ignore: set[frozenset[str]] = frozenset()) -> list[tuple[str, str]]:
+    def colliding_links(
+        self, ignore: AbstractSet[frozenset[str]] = frozenset()
+    ) -> list[tuple[str, str]]:
         """Pairs of distinct links whose shapes intersect, except adjacent links (a joint
         joins them, their shapes meet by design) and the pairs in `ignore`."""
         import coal

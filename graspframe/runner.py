@@ -31,7 +31,9 @@ from graspframe.events import (
     RunInfo,
 )
 from graspframe.grasps import HUMAN_HAND, PALM, HumanGrasp
-from graspframe.hal.drivers import WorldConfig
+from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.hal.drivers import Backend, WorldConfig
+from graspframe.hal.objects import ObjectDescription
 from graspframe.metrics.quality import grasp_quality
 from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_contacts
 from graspframe.motion.arm_motion import ArmMotion
@@ -139,11 +141,11 @@ def demo_paths() -> tuple[Path, Path]:
 class _Inputs:
     """Everything a run needs, looked up and read before it starts."""
 
-    hand: object
-    arm: object
-    backend_cls: type
-    obj: object
-    human: object
+    hand: HandDescription
+    arm: ArmDescription
+    backend_cls: type[Backend]
+    obj: ObjectDescription
+    human: HandDescription
     reference_file: HumanReference | None
     scene: Scene | None
     image: np.ndarray | None
@@ -172,6 +174,7 @@ def resolve(request: RunRequest, registry: Registry) -> _Inputs:
     elif scene is not None:
         obj = registry.get_object(scene.object_name)
     else:
+        assert request.grasp is not None  # without a grasp the scene names the object
         obj = registry.default_object_for(request.grasp)
     if scene is not None:
         check_on_table(scene, obj.half_height, TABLE_HEIGHT)

@@ -264,10 +264,10 @@ def project(solid: Solid, view: View) -> tuple[NDArray[np.float64], float]:
     points_2d = [solid.points[:, axes]]
     for centre, radius in zip(solid.disc_centres, solid.disc_radii, strict=True):
         points_2d.append(centre[axes] + radius * _UNIT_CIRCLE)
-    points_2d = np.concatenate(points_2d)
+    outline_points = np.concatenate(points_2d)
     centres = np.concatenate([solid.points, solid.disc_centres])
     nearness = float((centres @ np.asarray(view.towards_viewer)).mean())
-    return _convex_hull(points_2d), nearness
+    return _convex_hull(outline_points), nearness
 
 
 def _convex_hull(points: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -556,6 +556,7 @@ def draw_snapshots(
 ) -> Path:
     """Draw the snapshots (one column each) in the three views (rows) to the PNG `path`,
     atomically; returns `path`. InputError (one line) for unusable input."""
+    from matplotlib.artist import Artist
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
@@ -596,7 +597,9 @@ def draw_snapshots(
                 ax.set_title(f"{label}\n{_contact_summary(moment.snapshot)}", fontsize=10)
 
     fig.suptitle(title, fontsize=12, wrap=True, y=1 - 0.1 / height, va="top")
-    handles = [Patch(facecolor=c, edgecolor="#202020", label=f) for f, c in colours.items()]
+    handles: list[Artist] = [
+        Patch(facecolor=c, edgecolor="#202020", label=f) for f, c in colours.items()
+    ]
     handles += [
         Patch(facecolor=ARM_COLOUR, edgecolor="#202020", label="arm"),
         Patch(facecolor=OBJECT_COLOUR, edgecolor=OBJECT_EDGE, label="object"),

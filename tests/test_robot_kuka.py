@@ -1,23 +1,16 @@
 """The KUKA KR 5 sixx R850 model: kinematics against the KR 5 spec (docs/robots/kuka.md),
-limits, home pose, contract, SAPIEN loading and generator reproducibility."""
+limits, home pose and payload. Contract, registration, generator and SAPIEN loading are
+checked for every robot in test_robots_generic.py and test_registered_contracts.py."""
 
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 import pytest
-from graspframe_kuka import plugin
 from graspframe_kuka.description import HOME_Q, arm_description
 
-from graspframe.hal.descriptions import ArmDescription
-from graspframe.testing import assert_arm_contract
-
-REPO = Path(__file__).resolve().parents[1]
 ARM = arm_description()
 
 # The KR 5 spec (docs/robots/kuka.md), copied here independently of the generator:
@@ -181,45 +174,5 @@ def test_home_pose(model):
     assert np.linalg.svd(J, compute_uv=False).min() > 0.1
 
 
-def test_contract_and_registration():
-    assert_arm_contract(ARM)
-    registered: list[ArmDescription] = []
-    plugin.graspframe_register_arms(registered.append)
-    assert [arm.name for arm in registered] == ["kuka"]
-    assert registered[0].payload == 5.0
-
-
-def _sapien_articulation(path: Path):
-    sapien = pytest.importorskip("sapien")
-    scene = sapien.Scene([sapien.physx.PhysxCpuSystem()])
-    loader = scene.create_urdf_loader()
-    loader.fix_root_link = True
-    return scene, loader.load(str(path))
-
-
-def test_sapien_loads_same_joints_and_limits(model):
-    _, art = _sapien_articulation(ARM.model_path)
-    names = [j.name for j in art.get_active_joints()]
-    pin_names = [model.names[i] for i in range(1, model.njoints)]
-    assert names == pin_names == list(JOINT_NAMES)
-    np.testing.assert_allclose(
-        art.get_qlimits(),
-        np.stack([model.lowerPositionLimit, model.upperPositionLimit], axis=1),
-        atol=URDF_LIMIT_TOL,
-    )
-
-
-def test_sapien_no_self_penetration_at_home():
-    scene, art = _sapien_articulation(ARM.model_path)
-    art.set_qpos(np.asarray(HOME_Q))
-    scene.step()
-    depths = [p.separation for c in scene.get_contacts() for p in c.points]
-    assert all(d >= 0.0 for d in depths), depths
-
-
-def test_generator_reproduces_the_committed_urdf(tmp_path):
-    out = tmp_path / "kuka.urdf"
-    subprocess.run(
-        [sys.executable, "-m", "tools.robot_models.kuka", str(out)], cwd=REPO, check=True
-    )
-    assert out.read_text() == (REPO / "robots" / "kuka" / "kuka.urdf").read_text()
+def test_payload_is_5_kg():
+    assert ARM.payload == 5.0

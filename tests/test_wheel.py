@@ -54,6 +54,7 @@ def test_wheel_contains_models_and_plugins(wheel):
     for module in _builtin_plugin_modules().values():
         member = module.replace(".", "/") + ".py"
         assert member in names, f"plugin module {member} is missing from the wheel"
+    assert "graspframe/py.typed" in names, "the PEP 561 marker is missing from the wheel"
 
 
 @pytest.mark.slow

@@ -14,6 +14,7 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from graspframe.errors import InputError
 from graspframe.experiments.trials import (
@@ -81,7 +82,7 @@ def plan_trials(config: SweepConfig) -> list[TrialSpec]:
     for mount in config.mounts:
         for hand in config.hands:
             for grasp in config.grasps:
-                common = dict(
+                common: dict[str, Any] = dict(
                     seed=config.seed,
                     runs_dir=runs_dir,
                     arm=config.arm,

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from graspframe.errors import DescriptionError, UnknownNameError
-from graspframe.grasps import PALM, HumanGrasp
+from graspframe.grasps import HumanGrasp
 from graspframe.hal.objects import SHAPES
 from graspframe.transforms import as_pose
 
@@ -298,10 +298,6 @@ class HandDescription:
     @property
     def finger_names(self) -> tuple[str, ...]:
         return tuple(self.real_fingers)
-
-    @property
-    def has_palm(self) -> bool:
-        return PALM in self.real_fingers
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -56,7 +56,11 @@ class ArmDriver(ABC):
     def joint_names(self) -> tuple[str, ...]: ...
 
     @abstractmethod
-    def set_joint_targets(self, q: Sequence[float], qd: Sequence[float] | None = None) -> None:
+    def set_joint_targets(
+        self,
+        q: Sequence[float] | NDArray[np.float64],
+        qd: Sequence[float] | NDArray[np.float64] | None = None,
+    ) -> None:
         """Command joint positions [rad] (and optionally velocities [rad/s])."""
 
     @abstractmethod
@@ -142,7 +146,7 @@ class World(ABC):
     def __enter__(self) -> World:
         return self
 
-    def __exit__(self, *exc: object) -> None:
+    def __exit__(self, *exc: Any) -> None:
         self.close()
 
 

@@ -58,7 +58,9 @@ class NoContactsError(GraspframeError):
 # ----------------------------------------------------------------------------- validation
 
 
-def _vectors(values: ArrayLike, what: str, count: int | None = None) -> Vectors:
+def _vectors(
+    values: ArrayLike | Sequence[ArrayLike], what: str, count: int | None = None
+) -> Vectors:
     """A read-only float copy of `values` as (N,3), N >= 1, finite; N == count if given."""
     try:
         array = np.array(values, dtype=float)
@@ -86,7 +88,7 @@ def _unit_vectors(values: ArrayLike, what: str, count: int | None = None) -> Vec
     return array
 
 
-def _force_directions(forces: ArrayLike, what: str = "forces") -> Vectors:
+def _force_directions(forces: ArrayLike | Sequence[ArrayLike], what: str = "forces") -> Vectors:
     """Unit directions of (F,3) forces [N]; a zero force has none and is rejected."""
     forces = _vectors(forces, what)
     magnitudes = np.linalg.norm(forces, axis=1)
@@ -164,9 +166,9 @@ def group_by_real_finger(
     return tuple(
         RealFingerContacts(
             name=name,
-            positions=[c.p_world for c in group],
-            normals=[c.n_world for c in group],
-            forces=[c.f_world for c in group],
+            positions=np.array([c.p_world for c in group]),
+            normals=np.array([c.n_world for c in group]),
+            forces=np.array([c.f_world for c in group]),
         )
         for name, group in sorted(rows.items())
     )

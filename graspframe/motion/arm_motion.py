@@ -77,6 +77,7 @@ class ArmMotion:
         if world.arm is None:
             raise GraspframeError("ArmMotion needs a world with an arm")
         self.world = world
+        self.arm = world.arm
         self.robot = robot
         self.T_world_base = np.asarray(T_world_base, dtype=float)
         self.ik = ik or IkSolver(robot)
@@ -95,7 +96,7 @@ class ArmMotion:
     def cycle(self) -> None:
         """One control cycle: next setpoint to the arm, then the physics steps."""
         q, qd, _ = self.trajectory.step()
-        self.world.arm.set_joint_targets(q, qd)
+        self.arm.set_joint_targets(q, qd)
         self.world.step(self.steps_per_cycle)
         if self.on_cycle is not None:
             self.on_cycle(self)

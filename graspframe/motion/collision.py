@@ -204,7 +204,6 @@ class RobotCollisionChecker:
             (index, self.model.frames[g.parentFrame].name)
             for index, g in enumerate(self.geometry.geometryObjects)
         ]
-        self.links_with_shapes = tuple(dict.fromkeys(link for _, link in robot_shapes))
 
         skipped_links: set[str] = set()
         skipped_pairs: set[tuple[str, str]] = set()
@@ -217,10 +216,10 @@ class RobotCollisionChecker:
                     raise GraspframeError(
                         f"ignore takes link names or (link, obstacle) pairs, got {item!r}"
                     )
-                link, obstacle = item
+                link, obstacle_name = item
                 self._check_names((link,), self.links, "link")
-                self._check_names((obstacle,), self.obstacle_names, "obstacle")
-                skipped_pairs.add((link, obstacle))
+                self._check_names((obstacle_name,), self.obstacle_names, "obstacle")
+                skipped_pairs.add((link, obstacle_name))
 
         T_root_world = inv_T(self.T_world_root)
         pair_links: list[str] = []

@@ -77,7 +77,7 @@ class JointLimits:
             raise GraspframeError(
                 "JointLimits needs both lower and upper position limits, or neither"
             )
-        if self.lower is not None:
+        if self.lower is not None and self.upper is not None:
             lower = _vector(self.lower, dof, "JointLimits.lower")
             upper = _vector(self.upper, dof, "JointLimits.upper")
             if not np.all(lower < upper):
@@ -131,7 +131,7 @@ class JointLimits:
     def check_position(self, q: ArrayLike, what: str) -> Vector:
         """q [rad] as a vector; raises if it is outside the position limits."""
         q = _vector(q, self.dof, what)
-        if self.lower is not None:
+        if self.lower is not None and self.upper is not None:
             bad = (q < self.lower) | (q > self.upper)
             if np.any(bad):
                 outside = [
@@ -162,7 +162,7 @@ class JointLimits:
     def check_extrema(self, trajectory: ruckig.Trajectory, what: str) -> None:
         """Raises if a planned motion passes outside the position limits (beyond
         POSITION_ROUNDING)."""
-        if self.lower is None:
+        if self.lower is None or self.upper is None:
             return
         extrema = trajectory.position_extrema
         low = np.array([e.min for e in extrema])
@@ -234,7 +234,7 @@ def plan_joint_trajectory(
 
     duration = float(trajectory.duration)
     cycles = math.ceil(duration / dt - _DURATION_ROUNDING)
-    times = dt * np.arange(cycles + 1)
+    times = dt * np.arange(cycles + 1, dtype=np.float64)
     q, qd, qdd = (np.empty((cycles + 1, limits.dof)) for _ in range(3))
     for k, t in enumerate(times):
         q[k], qd[k], qdd[k] = trajectory.at_time(min(t, duration))
@@ -302,14 +302,6 @@ class OnlineTrajectory:
     def finished(self) -> bool:
         """The last target (or stop) has been reached."""
         return self._finished
-
-    def reset(self, q: ArrayLike) -> None:
-        """Forget any target and rest at q [rad] (e.g. the measured arm position)."""
-        self._q = self.limits.check_position(q, "q")
-        self._qd = np.zeros(self.limits.dof)
-        self._qdd = np.zeros(self.limits.dof)
-        self._active, self._finished = False, True
-        self._sync_input()
 
     def set_target(self, q_goal: ArrayLike, qd_goal: ArrayLike | None = None) -> None:
         """Move to q_goal [rad], arriving with velocity qd_goal [rad/s] (default 0).

@@ -183,7 +183,7 @@ def choose_plan(
     """The first variant of the grasp whose path is collision-free on the arm standing
     at T_world_base, the hand straight on the flange, else through each of its mountings
     in turn; PlanningError listing every variant's reason when none is."""
-    refused = []
+    refused: list[str] = []
     first = plan_grasp(grasp, T_object_human_palm, T_world_object_est, hand, obj, table_height)
     for mounting in (None, *hand.mountings):
         robot = mount(arm, hand, mounting=mounting)

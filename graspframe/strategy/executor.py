@@ -200,7 +200,7 @@ class _Execution:
         self._close(preshape.closed_q)
         self.world.step(round(self.p.hold_time / self.world.timestep))
         contacts = self.world.hand.contacts()
-        T_world_object_at_hold = self.world.object.T_world_object()
+        T_world_object_at_hold = held_test.object_probe(self.world).T_world_object()
         self.emit(
             events.EXECUTE_HOLD,
             fingers=sorted({c.real_finger for c in contacts}),
@@ -283,11 +283,11 @@ class _Execution:
                 stopped=result.stopped_by_contact,
                 cycles=result.cycles,
             )
-            if not result.stopped_by_contact:
+            contact = result.first_contact
+            if contact is None:  # the move was not stopped by a contact
                 emit(events.EXECUTE_NO_CONTACT, goal=T_goal[:3, 3])
                 self._snapshot("approach end", [])
                 return corrections, False, goals
-            contact = result.first_contact
             emit(
                 events.EXECUTE_FIRST_CONTACT,
                 link=contact.link,
@@ -463,6 +463,6 @@ class _Execution:
             q_arm=None if world.arm is None else world.arm.joint_positions(),
             q_hand=world.hand.joint_positions(),
             T_world_palm=world.hand.T_world_palm(),
-            T_world_object=world.object.T_world_object(),
+            T_world_object=held_test.object_probe(world).T_world_object(),
             contacts=contacts,
         )

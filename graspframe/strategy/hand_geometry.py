@@ -8,9 +8,6 @@ is the hand's shape at every moment of a grasp, without a simulator.
 `lowest_hand_point` is the lowest point, along the world vertical, of every hand shape
 (palm included) over those configurations, relative to the palm origin, for a given palm
 orientation: a goal must keep it above the table.
-
-`closing_sweep_depth` is the deepest point below the palm surface (along the palm normal)
-that any finger shape reaches while the hand closes in free space.
 """
 
 from __future__ import annotations
@@ -165,22 +162,3 @@ def lowest_hand_point(
                 continue
             lowest = min(lowest, float((points_palm @ R_world_palm.T)[:, 2].min()))
     return float(lowest)
-
-
-def closing_sweep_depth(hand: HandDescription, preshape_name: str) -> float:
-    """[m] deepest reach of the fingers below the palm surface while closing in free
-    space."""
-    preshape = hand.preshape(preshape_name)
-    model = _collision_model(str(hand.model_path))
-    finger_links = {
-        link for finger, links in hand.real_fingers.items() if finger != PALM for link in links
-    }
-    depth = 0.0
-    for q in closing_configurations(hand, preshape):
-        model.place(q)
-        T_palm_root = inv_T(model.T_root_frame(hand.palm_frame))
-        for link, shape, T_root_shape in model.shapes():
-            if link in finger_links:
-                points = shape_points(shape, T_palm_root @ T_root_shape)
-                depth = max(depth, float(points[:, 2].max()))
-    return depth

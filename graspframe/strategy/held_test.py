@@ -17,7 +17,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.contacts import Contact
-from graspframe.hal.drivers import World
+from graspframe.errors import GraspframeError
+from graspframe.hal.drivers import ObjectProbe, World
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.transforms import inv_T, rotation_angle
@@ -81,9 +82,16 @@ class LiftResult:
     contacts: list[Contact]
 
 
+def object_probe(world: World) -> ObjectProbe:
+    """The world's object: grasping and the held test need one."""
+    if world.object is None:
+        raise GraspframeError("this world has no object to grasp")
+    return world.object
+
+
 def T_palm_object(world: World) -> NDArray[np.float64]:
     """The object's pose in the palm frame now."""
-    return inv_T(world.hand.T_world_palm()) @ world.object.T_world_object()
+    return inv_T(world.hand.T_world_palm()) @ object_probe(world).T_world_object()
 
 
 def lift(
@@ -96,7 +104,7 @@ def lift(
     """Raise the palm by lift_height [m] straight up, wait settle_time [s], and judge
     whether the object came along."""
     T_palm_object_hold = T_palm_object(world)
-    z_object_hold = world.object.T_world_object()[2, 3]
+    z_object_hold = object_probe(world).T_world_object()[2, 3]
     samples: list[NDArray[np.float64]] = []
     motion.move_palm_linear(
         np.array([0.0, 0.0, 1.0]),
@@ -109,7 +117,7 @@ def lift(
     for _ in range(max(1, settle_steps // 10)):
         world.step(10)
         samples.append(T_palm_object(world))
-    rise = float(world.object.T_world_object()[2, 3] - z_object_hold)
+    rise = float(object_probe(world).T_world_object()[2, 3] - z_object_hold)
     moved = in_hand_motion(T_palm_object_hold, samples)
     held = rise >= HELD_RISE_FRACTION * lift_height and moved.within_bounds
     return LiftResult(rise, moved, held, world.hand.contacts())
@@ -124,14 +132,15 @@ def disturb(world: World, obj: ObjectDescription) -> dict[str, InHandMotion]:
     force = disturbance_force(obj)
     check_every = max(1, round(0.02 / world.timestep))
     checks = max(1, round(DISTURBANCE_TIME / (check_every * world.timestep)))
+    probe = object_probe(world)
     motion_by_direction: dict[str, InHandMotion] = {}
     for label, direction in DISTURBANCE_DIRECTIONS.items():
-        world.object.apply_force(force * np.asarray(direction))
+        probe.apply_force(force * np.asarray(direction))
         samples = []
         for _ in range(checks):
             world.step(check_every)
             samples.append(T_palm_object(world))
-        world.object.apply_force(None)
+        probe.apply_force(None)
         motion_by_direction[label] = in_hand_motion(T_palm_object_ref, samples)
     return motion_by_direction
 
@@ -176,8 +185,8 @@ def run(world: World, motion: ArmMotion, obj: ObjectDescription) -> HeldVerdict:
         pushed = disturb(world, obj)
     except NotImplementedError:
         return HeldVerdict(after_lift=True, under_disturbance=None, failure=None)
-    failure = disturbance_failure(pushed)
-    return HeldVerdict(after_lift=True, under_disturbance=failure is None, failure=failure)
+    slip = disturbance_failure(pushed)
+    return HeldVerdict(after_lift=True, under_disturbance=slip is None, failure=slip)
 
 
 def criteria() -> tuple:

@@ -27,6 +27,7 @@ the object [N].
 from __future__ import annotations
 
 import hashlib
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -80,7 +81,7 @@ class HumanReference:
         return sorted({c.real_finger for c in self.contacts})
 
     def to_json(self) -> dict:
-        data = {
+        data: dict[str, object] = {
             "format": FORMAT,
             "grasp": self.grasp.value,
             "object": self.object_name,
@@ -184,14 +185,14 @@ def simulate_human_grasp(
         travel_time = _travel_time(human, posture.open_q, posture.closed_q)
         world.step(round((travel_time + SETTLE_TIME) / world.timestep))
         hold_contacts = world.hand.contacts()
-        T_world_object_at_hold = world.object.T_world_object()
+        T_world_object_at_hold = held_test.object_probe(world).T_world_object()
         moments.append(_snapshot("hold", world, hold_contacts))
         held = held_test.run(world, motion, obj)
         moments.append(_snapshot("after lift and pushes", world, world.hand.contacts()))
     contacts = tuple(c.in_frame(T_world_object_at_hold) for c in hold_contacts)
     reference = HumanReference(grasp, obj.name, contacts, "simulated", held, picture)
     if picture is not None:
-        _draw(picture, reference, robot, config, moments)
+        _draw(picture, reference, held, robot, config, moments)
     return reference
 
 
@@ -202,17 +203,24 @@ def _snapshot(label: str, world, contacts: list[Contact]) -> Snapshot:
 
 
 def _draw(
-    path: Path, reference: HumanReference, robot, config: WorldConfig, moments: list[Snapshot]
+    path: Path,
+    reference: HumanReference,
+    held: HeldVerdict,
+    robot,
+    config: WorldConfig,
+    moments: list[Snapshot],
 ) -> None:
     scene = scene_of_robot(
         robot.urdf_path, config.T_world_arm_base, config.hand, config.object, config.table_height
     )
-    verdict = "held" if reference.held.held else f"not held: {reference.held.failure}"
+    verdict = "held" if held.held else f"not held: {held.failure}"
     title = f"human {reference.grasp.value}, {reference.object_name}; {verdict}"
     draw_snapshots(path, scene, moments, title)
 
 
-def _travel_time(hand: HandDescription, q_from: dict, q_to: dict) -> float:
+def _travel_time(
+    hand: HandDescription, q_from: Mapping[str, float], q_to: Mapping[str, float]
+) -> float:
     """[s] for the slowest joint to go from q_from to q_to at its velocity limit."""
     return max(
         (

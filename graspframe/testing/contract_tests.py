@@ -71,7 +71,7 @@ def _first(kind: str, preferred: str) -> str | None:
 def test_backend_contract(backend_name):
     registry = default_registry()
     hand, arm, obj = _first("hand", "barrett"), _first("arm", "kuka"), _first("object", "")
-    if None in (hand, arm, obj):
+    if hand is None or arm is None or obj is None:
         pytest.skip("a backend is checked with a registered hand, arm and object")
     assert_backend_contract(
         registry.get_backend(backend_name),

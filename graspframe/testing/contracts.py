@@ -8,8 +8,10 @@ from __future__ import annotations
 
 import math
 import re
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError
 from graspframe.grasps import PALM, HumanGrasp
@@ -171,11 +173,11 @@ def hand_problems(hand: HandDescription) -> list[str]:
         if not isinstance(mounting, Mounting):
             problems.append(f"mounting {name!r} is a {type(mounting).__name__}, not a Mounting")
 
-    links = [("root link", hand.root_link), ("palm frame", hand.palm_frame)]
-    links += [
+    named_links = [("root link", hand.root_link), ("palm frame", hand.palm_frame)]
+    named_links += [
         (f"link of real finger {f!r}", link) for f, ls in hand.real_fingers.items() for link in ls
     ]
-    problems += _model_problems(hand.model_path, hand.joints, links)
+    problems += _model_problems(hand.model_path, hand.joints, named_links)
     # The palm direction needs only the model, its palm frame and palm links: check it
     # also when the joints are wrong, so that one run names every defect.
     if _model_has_links(hand.model_path, {hand.palm_frame, *hand.real_fingers.get(PALM, ())}):
@@ -243,7 +245,7 @@ def classifier_problems(classifier_cls: type[Classifier]) -> list[str]:
         classifier = classifier_cls()
     except Exception as exc:
         return [*problems, f"cannot be built with no arguments: {type(exc).__name__}: {exc}"]
-    not_images = {
+    not_images: dict[str, NDArray[Any]] = {
         "an empty array": np.zeros((0, 0, 3), np.uint8),
         "a float image": np.zeros((64, 64, 3), np.float32),
         "a 1-D array": np.zeros(10, np.uint8),

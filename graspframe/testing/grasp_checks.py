@@ -169,6 +169,8 @@ def hand_alone_grasp(
     from graspframe.strategy.executor import ExecutorParams, execute_plan
 
     preshape = hand.preshape_for(grasp)
+    if preshape.design_object is None:
+        raise ValueError(f"preshape {preshape.name!r} declares no design object")
     obj = obj or design_object(preshape)
     R = R_object_palm_for_design(preshape.design_object)
     T_object_palm = make_T(R, -R @ np.asarray(preshape.grasp_center_palm))

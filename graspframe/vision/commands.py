@@ -87,7 +87,8 @@ def classify_command(
     classifier_class = get_classifier(classifier)
     if k < 1:
         raise InputError(f"--k must be >= 1, got {k}")
-    estimate = classifier_class(k=k).classify(read_image(image))
+    # --k is for kNN classifiers; both built-in ones take k.
+    estimate = classifier_class(k=k).classify(read_image(image))  # type: ignore[call-arg]
     result = estimate_as_dict(estimate)
     if as_json:
         sys.stdout.write(json.dumps(result, indent=2) + "\n")

@@ -183,7 +183,7 @@ def describe_view(view: RenderedView, view_id: int) -> DescribedView:
 
 def _describe_chunk(args) -> list[DescribedView | None]:
     view_ids, seed, size, distribution = args
-    out = []
+    out: list[DescribedView | None] = []
     for i in view_ids:
         try:
             out.append(describe_view(render_view_by_id(i, seed, size, distribution), i))
@@ -214,6 +214,7 @@ def build_database(
     start = time.perf_counter()
     rows: list[DescribedView | None] = []
     done = 0
+    results: Iterator[list[DescribedView | None]]
     if workers == 1:
         results = map(_describe_chunk, chunks)
         pool = None

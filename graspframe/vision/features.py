@@ -36,11 +36,6 @@ def _hog() -> cv2.HOGDescriptor:
     )
 
 
-def descriptor_size() -> int:
-    """Length of one HOG descriptor."""
-    return int(_hog().getDescriptorSize())
-
-
 def hog_descriptor(patch: NDArray[np.uint8]) -> NDArray[np.float32]:
-    """HOG of one CROP_SIZE x CROP_SIZE grey patch -> (descriptor_size(),) float32."""
-    return _hog().compute(patch).reshape(-1).astype(np.float32)
+    """HOG of one CROP_SIZE x CROP_SIZE grey patch -> one flat float32 descriptor."""
+    return np.asarray(_hog().compute(patch)).reshape(-1).astype(np.float32)

@@ -9,6 +9,7 @@ brute-force L2). Distances returned are Euclidean (not squared) in PCA space.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,7 +27,9 @@ def weighted_vote(
     """The distance-weighted kNN vote: (weights 1 / distance of the neighbours, votes per
     class = the sum of their weights)."""
     weights = 1.0 / np.maximum(distances, DISTANCE_FLOOR)
-    return weights, np.bincount(labels, weights=weights, minlength=n_classes)
+    # With weights, bincount sums them as float64.
+    votes = cast(NDArray[np.float64], np.bincount(labels, weights=weights, minlength=n_classes))
+    return weights, votes
 
 
 @dataclass(frozen=True)
@@ -73,10 +76,12 @@ class NeighbourIndex:
         faiss.omp_set_num_threads(1)
         vectors = np.ascontiguousarray(vectors, dtype=np.float32)
         dims = vectors.shape[1]
+        index: faiss.Index
         if kind == "hnsw":
-            index = faiss.IndexHNSWFlat(dims, HNSW_M)
-            index.hnsw.efConstruction = HNSW_EF_CONSTRUCTION
-            index.hnsw.efSearch = HNSW_EF_SEARCH
+            hnsw = faiss.IndexHNSWFlat(dims, HNSW_M)
+            hnsw.hnsw.efConstruction = HNSW_EF_CONSTRUCTION
+            hnsw.hnsw.efSearch = HNSW_EF_SEARCH
+            index = hnsw
         else:
             index = faiss.IndexFlatL2(dims)
         index.add(vectors)

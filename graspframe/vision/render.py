@@ -11,12 +11,16 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, cast
 
 import cv2
 import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError
+
+if TYPE_CHECKING:
+    import moderngl
 
 SUPERSAMPLE = 2
 NEAR, FAR = 0.02, 10.0  # [m] clipping planes
@@ -118,7 +122,8 @@ class Renderer:
         import moderngl
 
         try:
-            self.ctx = moderngl.create_standalone_context(backend="egl")
+            # moderngl's stub types each keyword setting as a dict; backend is a string.
+            self.ctx = moderngl.create_standalone_context(backend="egl")  # type: ignore[arg-type]
         except Exception as exc:  # no EGL: try the platform default
             try:
                 self.ctx = moderngl.create_standalone_context()
@@ -132,16 +137,21 @@ class Renderer:
         self.vao = self.ctx.vertex_array(
             self.program, [(self.vbo, "3f 3f 3f", "in_position", "in_normal", "in_albedo")]
         )
-        self._fbo = None
+        self._fbo: moderngl.Framebuffer | None = None
         self._fbo_size = (0, 0)
 
-    def _framebuffer(self, width: int, height: int):
-        if self._fbo_size != (width, height):
-            if self._fbo is not None:
-                self._fbo.release()
-            self._fbo = self.ctx.simple_framebuffer((width, height), components=4)
-            self._fbo_size = (width, height)
+    def _framebuffer(self, width: int, height: int) -> moderngl.Framebuffer:
+        if self._fbo is not None and self._fbo_size == (width, height):
+            return self._fbo
+        if self._fbo is not None:
+            self._fbo.release()
+        self._fbo = self.ctx.simple_framebuffer((width, height), components=4)
+        self._fbo_size = (width, height)
         return self._fbo
+
+    def _uniform(self, name: str) -> moderngl.Uniform:
+        """A uniform of the shader program (the shaders above declare each one)."""
+        return cast("moderngl.Uniform", self.program[name])
 
     def render(
         self,
@@ -169,12 +179,12 @@ class Renderer:
         )
         data = np.concatenate([positions, normals, albedo], axis=1).astype(np.float32)
         self.vbo.write(data.tobytes())
-        self.program["projection"].write(big.projection().T.copy().tobytes())
+        self._uniform("projection").write(big.projection().T.copy().tobytes())
         light = np.asarray(lighting.light_dir, dtype=np.float32)
-        self.program["light_dir"].value = tuple(light / np.linalg.norm(light))
-        self.program["light_colour"].value = tuple(lighting.light_colour)
-        self.program["ambient"].value = float(lighting.ambient)
-        self.program["specular"].value = float(lighting.specular)
+        self._uniform("light_dir").value = tuple(light / np.linalg.norm(light))
+        self._uniform("light_colour").value = tuple(lighting.light_colour)
+        self._uniform("ambient").value = float(lighting.ambient)
+        self._uniform("specular").value = float(lighting.specular)
         fbo = self._framebuffer(big.width, big.height)
         fbo.use()
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
@@ -185,7 +195,8 @@ class Renderer:
         rgba = raw.reshape(big.height, big.width, 4).astype(np.float32)
         small = cv2.resize(rgba, (camera.width, camera.height), interpolation=cv2.INTER_AREA)
         bgr = np.clip(small[..., 2::-1] + 0.5, 0, 255).astype(np.uint8)
-        return bgr, small[..., 3] / 255.0
+        alpha = small[..., 3] / 255.0
+        return bgr, alpha.astype(np.float32, copy=False)
 
     def release(self) -> None:
         self.ctx.release()

@@ -132,7 +132,9 @@ class HandModel:
         )
 
 
-def T_palm_object(grasp: HumanGrasp, obj: ObjectDescription | None = None):
+def T_palm_object(
+    grasp: HumanGrasp, obj: ObjectDescription | None = None
+) -> tuple[ObjectDescription, NDArray[np.float64]]:
     """Pose of the grasp's object in the palm frame (inverse of the reference placement)."""
     from graspframe.registry import default_registry
     from graspframe.strategy.reference_poses import reference_placement

@@ -11,6 +11,7 @@ of the palm cuts off from it).
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import cast
 
 import cv2
 import numpy as np
@@ -61,7 +62,7 @@ def skin_pixels(image_bgr: NDArray[np.uint8]) -> NDArray[np.uint8]:
     ycrcb = cv2.cvtColor(image_bgr, cv2.COLOR_BGR2YCrCb)
     lower = np.array([MIN_LUMA, CR_RANGE[0], CB_RANGE[0]], np.uint8)
     upper = np.array([255, CR_RANGE[1], CB_RANGE[1]], np.uint8)
-    return cv2.inRange(ycrcb, lower, upper)
+    return cast(NDArray[np.uint8], cv2.inRange(ycrcb, lower, upper))
 
 
 def hand_mask(image_bgr: NDArray[np.uint8]) -> NDArray[np.uint8]:
@@ -75,7 +76,7 @@ def _clean(raw: NDArray[np.uint8]) -> NDArray[np.uint8]:
     k = max(1, round(min(h, w) / 160))
     kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * k + 1, 2 * k + 1))
     mask = cv2.morphologyEx(raw, cv2.MORPH_OPEN, kernel)
-    return cv2.morphologyEx(mask, cv2.MORPH_CLOSE, kernel)
+    return cast(NDArray[np.uint8], cv2.morphologyEx(mask, cv2.MORPH_CLOSE, kernel))
 
 
 def _largest_regions(mask: NDArray[np.uint8]) -> NDArray[np.uint8]:
@@ -114,7 +115,11 @@ def crop_hand(image_bgr: NDArray[np.uint8], mask: NDArray[np.uint8]) -> HandCrop
     xa, ya, xb, yb = max(x0, 0), max(y0, 0), min(x0 + s, w), min(y0 + s, h)
     region[ya - y0 : yb - y0, xa - x0 : xb - x0] = grey[ya:yb, xa:xb]
     interpolation = cv2.INTER_AREA if s > CROP_SIZE else cv2.INTER_LINEAR
-    patch = cv2.resize(region, (CROP_SIZE, CROP_SIZE), interpolation=interpolation)
+    # OpenCV keeps the uint8 type of its input.
+    patch = cast(
+        NDArray[np.uint8],
+        cv2.resize(region, (CROP_SIZE, CROP_SIZE), interpolation=interpolation),
+    )
     return HandCrop(
         patch=patch,
         mask=mask,

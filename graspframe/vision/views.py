@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.grasps import HumanGrasp
+from graspframe.hal.objects import ObjectDescription
 from graspframe.vision.render import Camera, Lighting, Renderer, composite
 from graspframe.vision.scene import HandModel, Mesh, T_palm_object, object_mesh
 from graspframe.vision.segmentation import skin_pixels
@@ -141,7 +142,7 @@ def R_world_camera_looking(
 
 
 @functools.cache
-def _object_frames() -> dict[HumanGrasp, tuple[object, NDArray[np.float64]]]:
+def _object_frames() -> dict[HumanGrasp, tuple[ObjectDescription, NDArray[np.float64]]]:
     return {g: T_palm_object(g) for g in GRASPS}
 
 
@@ -245,7 +246,7 @@ def background(rng: np.random.Generator, style: str, width: int, height: int):
 
 
 def _non_skin_colours(rng: np.random.Generator, n: int) -> NDArray[np.float64]:
-    out = []
+    out: list[NDArray[np.float64]] = []
     while len(out) < n:
         c = rng.uniform(0, 255, 3)
         if not skin_pixels(c.astype(np.uint8)[None, None, :]).any():

@@ -25,6 +25,7 @@ free space. The postures were fitted to the design objects in extras["design_obj
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 
 from graspframe.grasps import PALM, THUMB, HumanGrasp
 from graspframe.hal.descriptions import (
@@ -365,7 +366,7 @@ _POSTURES_DEG = {
 }
 
 
-def _rad(q_deg: dict[str, float]) -> dict[str, float]:
+def _rad(q_deg: Mapping[str, float]) -> dict[str, float]:
     return {f"hh_{name}": value * DEG for name, value in q_deg.items()}
 
 

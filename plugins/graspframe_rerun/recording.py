@@ -191,7 +191,7 @@ class RunRecording:
         )
 
     def _on_motion_cycle(self, data: dict) -> None:
-        if self._model is None:
+        if self._model is None or self._hand is None:
             return
         q_arm = np.asarray(data["q_arm"], dtype=float)
         q = dict(zip(self._arm_joint_names, q_arm, strict=True))

@@ -37,8 +37,8 @@ def mimic_followers(urdf_path: Path | str) -> dict[str, tuple[str, float, float]
     for joint in ET.parse(urdf_path).getroot().iter("joint"):
         mimic = joint.find("mimic")
         if mimic is not None:
-            followers[joint.get("name")] = (
-                mimic.get("joint"),
+            followers[joint.attrib["name"]] = (
+                mimic.attrib["joint"],
                 float(mimic.get("multiplier", 1.0)),
                 float(mimic.get("offset", 0.0)),
             )
@@ -64,7 +64,7 @@ def load_articulation(
     return articulation
 
 
-def active_joints(articulation) -> dict[str, object]:
+def active_joints(articulation) -> dict[str, sapien.physx.PhysxArticulationJoint]:
     """Active joint name -> joint, in articulation order."""
     return {joint.name: joint for joint in articulation.get_active_joints()}
 

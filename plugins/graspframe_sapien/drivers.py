@@ -106,7 +106,6 @@ class SapienHandDriver(HandDriver):
         self._access = _JointAccess(articulation, hand.joint_names)
         self._joint_by_name = dict(zip(self._access.names, self._access.joints, strict=True))
         self._couplings = [c for c in hand.couplings if not c.in_model]
-        self._followers = {c.follower for c in self._couplings}
         self._spec = {j.name: j for j in hand.joints}
         self._max_velocity = {j.name: j.max_velocity for j in hand.joints}
         self._commanded: dict[str, float] = dict.fromkeys(hand.joint_names, 0.0)

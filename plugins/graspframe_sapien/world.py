@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from graspframe.hal.drivers import Backend, World, WorldConfig
-from graspframe.mounting import mount
+from graspframe.mounting import MountedRobot, mount
 from graspframe.transforms import as_pose
 from graspframe_sapien.articulation import (
     configure_drives,
@@ -26,19 +26,23 @@ class SapienWorld(World):
     and hand compensate gravity, so the PD drives only have to track.
     """
 
+    hand: SapienHandDriver
+    object: SapienObjectProbe | None
+
     def __init__(self, config: WorldConfig):
         self.config = config
         self._scene = create_scene(config.timestep)
         self._steps = 0
 
         T_world_object = as_pose(config.T_world_object, "T_world_object")
-        self._table = build_table(self._scene, T_world_object[:2, 3], config.table_height)
+        build_table(self._scene, T_world_object[:2, 3], config.table_height)
         self._object_actor = None
         if config.object is not None:
             self._object_actor = build_object(self._scene, config.object, T_world_object)
         self.object = SapienObjectProbe(self._object_actor) if self._object_actor else None
 
         hand, arm = config.hand, config.arm
+        self.robot: MountedRobot | None
         if arm is not None:
             self.robot = mount(arm, hand, config.T_flange_hand, config.mounting)
             urdf_path = self.robot.urdf_path

@@ -124,27 +124,9 @@ def _Ry(angle_deg: float) -> np.ndarray:
     return Rotation.from_euler("y", angle_deg, degrees=True).as_matrix()
 
 
-def _Rx(angle_deg: float) -> np.ndarray:
-    return Rotation.from_euler("x", angle_deg, degrees=True).as_matrix()
-
-
 def thumb_base_rotation() -> np.ndarray:
     """Rz(a) Rx(b) Rz(c): the published rotations about the moving axes."""
     return Rotation.from_euler("ZXZ", THUMB_BASE_ZXZ_DEG, degrees=True).as_matrix()
-
-
-def dh(theta_deg: float, d_mm: float, a_mm: float, alpha_deg: float) -> np.ndarray:
-    """One DH step [mm]: rotation theta about z, d along z, a along x, alpha about x."""
-    rz = Rotation.from_euler("z", theta_deg, degrees=True).as_matrix()
-    return _T(rz, [0.0, 0.0, d_mm]) @ _T(_Rx(alpha_deg), [a_mm, 0.0, 0.0])
-
-
-def thumb_tip_model_mm(t1_deg: float, t2_deg: float, length_mm: float = THUMB_DISTAL_MM):
-    """The thumb tip in the model frame [mm] (the published chain, for checks and docs)."""
-    T = _T(thumb_base_rotation(), THUMB_BASE_MM)
-    for theta, (d, a, alpha) in zip((t1_deg, t2_deg), THUMB_DH, strict=True):
-        T = T @ dh(theta, d, a, alpha)
-    return (T @ [length_mm, 0.0, 0.0, 1.0])[:3]
 
 
 def _xyz_rpy(T: np.ndarray) -> tuple[tuple[float, ...], tuple[float, ...]]:

@@ -1,0 +1,68 @@
+"""Names vulture reports as unused that are used: read by tests, documentation or other
+libraries, or part of a plugin-facing interface. Vulture only parses this file; nothing
+here runs. Typer commands, pluggy hooks and the recording's `_on_<event>` handlers are
+excluded in [tool.vulture] (pyproject.toml) by decorator and name pattern."""
+
+import coal
+import faiss
+import ruckig
+import sapien
+from graspframe_landmarks.features import FEATURE_NAMES
+from graspframe_sapien.drivers import SapienArmDriver, SapienHandDriver
+from graspframe_sapien.world import SapienWorld
+
+from graspframe.grasps import HumanGrasp
+from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.hal.drivers import ArmDriver
+from graspframe.hal.objects import ObjectDescription
+from graspframe.metrics.virtual_fingers import MatchedPair, VirtualFingerGrasp
+from graspframe.motion.arm_motion import LinearMoveResult
+from graspframe.motion.ik import IkSolver
+from graspframe.plugins.hookspecs import Register
+from graspframe.registry import Registry
+from graspframe.robot_model import CollisionModel
+from graspframe.vision.demo import write_demo
+from graspframe.vision.segmentation import HandCrop
+
+# Attributes that other libraries read once set.
+ruckig.InputParameter.duration_discretization
+ruckig.InputParameter.control_interface
+ruckig.InputParameter.current_position
+ruckig.InputParameter.current_velocity
+ruckig.InputParameter.current_acceleration
+ruckig.InputParameter.target_position
+ruckig.InputParameter.target_velocity
+ruckig.InputParameter.target_acceleration
+faiss.IndexHNSW.efConstruction
+faiss.IndexHNSW.efSearch
+coal.CollisionRequest.security_margin
+sapien.URDFLoader.fix_root_link
+sapien.physx.PhysxArticulationLinkComponent.disable_gravity
+
+# Data fields of descriptions and results: part of what they describe.
+HandDescription.extras
+ArmDescription.payload
+ObjectDescription.extras
+LinearMoveResult.T_world_palm_at_contact
+LinearMoveResult.T_world_palm_end
+LinearMoveResult.travel_after_contact
+MatchedPair.robot_index
+MatchedPair.human_index
+HandCrop.area
+
+# Interfaces: the plugin callback protocol and the HAL arm driver's measured velocities.
+Register.__call__
+ArmDriver.joint_velocities
+SapienArmDriver.joint_velocities
+
+# Public helpers the tests use and the documentation names.
+HumanGrasp.cutkosky_number
+HumanGrasp.volar_for_human
+VirtualFingerGrasp.touching_real_fingers
+IkSolver.hand_q_in_model
+Registry.add_plugin
+CollisionModel.colliding_links
+SapienHandDriver.held_leaders
+SapienWorld.teleport_hand
+FEATURE_NAMES
+write_demo
