@@ -66,3 +66,11 @@ SapienHandDriver.held_leaders
 SapienWorld.teleport_hand
 FEATURE_NAMES
 write_demo
+
+# The run-event catalogue: its list and the prose of each kind and field are read by the
+# documentation test and by observers.
+from graspframe import events  # noqa: E402
+
+events.EVENT_KINDS
+events.EventKind.when
+events.PayloadField.meaning
