@@ -11,7 +11,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -20,7 +20,9 @@ from graspframe.contacts import Contact, PalmSensorReading
 from graspframe.errors import GraspframeError
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.objects import ObjectDescription
-from graspframe.mounting import MountedRobot
+
+if TYPE_CHECKING:  # graspframe.mounting reads the descriptions of this package
+    from graspframe.mounting import MountedRobot
 
 
 @dataclass(frozen=True)
