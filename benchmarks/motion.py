@@ -137,11 +137,12 @@ def simulation_real_time_factor(arm: str, hand: str) -> dict[str, float]:
     can = registry.get_object("large_cylinder")
     T_world_object = make_T(p=[0.55, 0.2, can.half_height])
     started = time.perf_counter()
+    robot = mount(arm_d, hand_d)
     world = SapienBackend().create_world(
-        WorldConfig(hand=hand_d, arm=arm_d, object=can, T_world_object=T_world_object)
+        WorldConfig(hand=hand_d, robot=robot, object=can, T_world_object=T_world_object)
     )
     build = time.perf_counter() - started
-    motion = ArmMotion(world, world.robot, np.eye(4))
+    motion = ArmMotion(world, robot, np.eye(4))
     R_palm_down = R_from_rpy(np.pi, 0.0, 0.0)
     started = time.perf_counter()
     sim_start = world.time

@@ -319,10 +319,8 @@ def _execute(request, inputs, registry, recorder, result, progress):
     progress("building the world")
     config = WorldConfig(
         hand=hand,
-        arm=checked.robot.arm,
         object=obj,
-        T_flange_hand=checked.robot.T_flange_hand,
-        mounting=checked.robot.mounting,
+        robot=checked.robot,
         T_world_arm_base=checked.T_world_base,
         T_world_object=T_world_object,
         table_height=TABLE_HEIGHT,

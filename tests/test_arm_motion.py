@@ -10,6 +10,7 @@ from graspframe_sapien.world import SapienBackend
 
 from graspframe.hal import ObjectDescription, WorldConfig
 from graspframe.motion.arm_motion import ArmMotion
+from graspframe.mounting import mount
 from graspframe.registry import default_registry
 from graspframe.transforms import R_from_rpy, make_T, rotation_angle
 
@@ -27,10 +28,11 @@ STOP_TRAVEL_LIMIT = 0.005  # [m] the acceptance bound on travel after the touch
 def motion(request):
     arm, hand = REGISTRY.get_arm(request.param), REGISTRY.get_hand("barrett")
     T_world_block = make_T(p=[0.5, 0.0, BLOCK.half_height])
+    robot = mount(arm, hand)
     world = SapienBackend().create_world(
-        WorldConfig(hand=hand, arm=arm, object=BLOCK, T_world_object=T_world_block)
+        WorldConfig(hand=hand, robot=robot, object=BLOCK, T_world_object=T_world_block)
     )
-    return ArmMotion(world, world.robot, np.eye(4))
+    return ArmMotion(world, robot, np.eye(4))
 
 
 def test_approach_stops_at_contact_within_5_mm_and_retreats(motion):

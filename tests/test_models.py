@@ -151,7 +151,7 @@ def _close_in_free_space(hand, preshape):
     """Open preshape, then command the closed targets with nothing to touch, through the
     SAPIEN hand driver (velocity-limited setpoints, couplings); returns the measured
     actuated joint positions [rad] by name."""
-    world = SapienBackend().create_world(WorldConfig(hand=hand, arm=None, object=None))
+    world = SapienBackend().create_world(WorldConfig(hand=hand, object=None))
     world.hand.set_free_pose(make_T(p=[0.0, 0.0, 0.5]))  # well above the table
     world.teleport_hand(dict(preshape.open_q))
     world.hand.set_joint_targets(preshape.closed_q)

@@ -596,8 +596,8 @@ def hand_alone_run(grasp: HumanGrasp, object_name: str | None = None):
     checked = floating_plan(grasp, placement.T_object_palm, T_world_object, HAND, obj, TABLE_HEIGHT)
     config = WorldConfig(
         hand=HAND,
-        arm=checked.robot.arm,
         object=obj,
+        robot=checked.robot,
         T_world_arm_base=checked.T_world_base,
         T_world_object=T_world_object,
     )

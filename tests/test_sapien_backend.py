@@ -13,6 +13,7 @@ from graspframe_sapien.world import SapienBackend
 
 from graspframe.grasps import PALM
 from graspframe.hal import ObjectDescription, WorldConfig
+from graspframe.mounting import mount
 from graspframe.registry import default_registry
 from graspframe.robot_model import CollisionModel
 from graspframe.transforms import R_from_rpy, inv_T, make_T
@@ -33,7 +34,8 @@ TALL_BOX = ObjectDescription(
 def test_every_arm_joint_reaches_commanded_configurations(arm_name):
     arm = REGISTRY.get_arm(arm_name)
     hand = REGISTRY.get_hand("barrett")
-    world = SapienBackend().create_world(WorldConfig(hand=hand, arm=arm, object=None))
+    config = WorldConfig(hand=hand, object=None, robot=mount(arm, hand))
+    world = SapienBackend().create_world(config)
     rng = np.random.default_rng(7)
     lower = np.array([j.lower for j in arm.joints])
     upper = np.array([j.upper for j in arm.joints])
@@ -63,7 +65,7 @@ def test_palm_pressed_on_a_box_reports_a_palm_contact_with_the_true_normal(hand_
     hand = REGISTRY.get_hand(hand_name)
     T_world_box = make_T(p=[0.0, 0.0, TALL_BOX.half_height])
     world = SapienBackend().create_world(
-        WorldConfig(hand=hand, arm=None, object=TALL_BOX, T_world_object=T_world_box)
+        WorldConfig(hand=hand, object=TALL_BOX, T_world_object=T_world_box)
     )
     # Centre the palm pad over the box, 1 cm above its top.
     model = CollisionModel(hand.model_path)
@@ -97,7 +99,7 @@ def test_a_finger_touch_is_attributed_to_that_finger():
     )
     T_world_block = make_T(p=[p_world_tip[0], p_world_tip[1], block.half_height])
     world = SapienBackend().create_world(
-        WorldConfig(hand=hand, arm=None, object=block, T_world_object=T_world_block)
+        WorldConfig(hand=hand, object=block, T_world_object=T_world_block)
     )
     # Start with the fingertip 1 cm above the block, then lower until any contact.
     T = T_world_palm.copy()
@@ -121,7 +123,7 @@ def test_a_barrett_finger_closing_on_a_cylinder_wraps():
     can = ObjectDescription("wide_can", "cylinder", {"radius": radius, "length": 0.12}, 0.3)
     T_world_can = make_T(p=[0.0, 0.0, can.half_height])
     world = SapienBackend().create_world(
-        WorldConfig(hand=hand, arm=None, object=can, T_world_object=T_world_can)
+        WorldConfig(hand=hand, object=can, T_world_object=T_world_can)
     )
     # Palm facing the can from -x, 5 mm off its side; fingers close around its axis:
     # palm x = world y, palm y = world z (the can's axis), palm z = world x.
@@ -155,11 +157,12 @@ SCENARIO = """
 import hashlib, numpy as np
 from graspframe.registry import default_registry
 from graspframe.hal import WorldConfig
+from graspframe.mounting import mount
 from graspframe.transforms import make_T
 from graspframe_sapien.world import SapienBackend
 r = default_registry()
 arm, hand, can = r.get_arm("kuka"), r.get_hand("barrett"), r.get_object("large_cylinder")
-config = WorldConfig(hand=hand, arm=arm, object=can, seed=3,
+config = WorldConfig(hand=hand, robot=mount(arm, hand), object=can, seed=3,
                      T_world_object=make_T(p=[0.5, 0.05, can.half_height]))
 world = SapienBackend().create_world(config)
 world.arm.set_joint_targets(np.array(arm.home_q) + 0.2)

@@ -36,6 +36,7 @@ ruckig.InputParameter.target_acceleration
 faiss.IndexHNSW.efConstruction
 faiss.IndexHNSW.efSearch
 coal.CollisionRequest.security_margin
+coal.DistanceRequest.enable_signed_distance
 sapien.URDFLoader.fix_root_link
 sapien.physx.PhysxArticulationLinkComponent.disable_gravity
 

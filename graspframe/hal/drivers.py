@@ -11,24 +11,29 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.contacts import Contact, PalmSensorReading
+from graspframe.errors import GraspframeError
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.objects import ObjectDescription
+
+if TYPE_CHECKING:  # graspframe.mounting reads the descriptions of this package
+    from graspframe.mounting import MountedRobot
 
 
 @dataclass(frozen=True)
 class WorldConfig:
     """Everything a backend needs to build a world.
 
-    arm: None for a free-floating hand (the human reference hand).
-    T_flange_hand: pose of the hand's root link in the arm flange frame.
-    mounting: the hand's mounting (adapter) between flange and hand, by name; None: the
-        root link straight on the flange at T_flange_hand.
+    hand: the hand, mounted on the arm of `robot` or floating freely.
+    robot: the hand fixed to an arm's flange (`graspframe.mounting.mount`): the arm, the
+        pose of the hand on the flange, any adapter, and the combined model file a
+        backend loads. The core mounts the hand; a backend only reads the result. None:
+        a free-floating hand (placed with `HandDriver.set_free_pose`).
     T_world_arm_base: pose of the arm base in the world.
     T_world_object: true pose of the object's centroid frame in the world.
     table_height: [m] height of the table top (world z up).
@@ -37,15 +42,25 @@ class WorldConfig:
     """
 
     hand: HandDescription
-    arm: ArmDescription | None
     object: ObjectDescription | None
-    T_flange_hand: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
-    mounting: str | None = None
+    robot: MountedRobot | None = None
     T_world_arm_base: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
     T_world_object: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
     table_height: float = 0.0
     timestep: float = 1.0 / 500.0
     seed: int = 0
+
+    def __post_init__(self) -> None:
+        if self.robot is not None and self.robot.hand.name != self.hand.name:
+            raise GraspframeError(
+                f"the world's hand {self.hand.name!r} is not the mounted robot's "
+                f"hand {self.robot.hand.name!r}"
+            )
+
+    @property
+    def arm(self) -> ArmDescription | None:
+        """The arm the hand is mounted on (None: a free-floating hand)."""
+        return None if self.robot is None else self.robot.arm
 
 
 class ArmDriver(ABC):

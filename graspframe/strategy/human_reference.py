@@ -169,9 +169,8 @@ def simulate_human_grasp(
     robot, T_world_base = mount_floating(human, T_world_palm_start)
     config = WorldConfig(
         hand=human,
-        arm=robot.arm,
         object=obj,
-        T_flange_hand=robot.T_flange_hand,
+        robot=robot,
         T_world_arm_base=T_world_base,
         T_world_object=T_world_object,
     )

@@ -8,6 +8,9 @@ A plugin author checks a plugin from their own test suite:
 or runs the parametrised contract tests over every installed plugin:
 
     pytest --pyargs graspframe.testing.contract_tests
+
+`KinematicBackend` builds worlds without a simulator (no physics, deterministic), for
+testing code that drives a `World`.
 """
 
 from graspframe.testing.contracts import (
@@ -19,6 +22,7 @@ from graspframe.testing.contracts import (
     palm_direction_problems,
 )
 from graspframe.testing.grasp_checks import closing_problems, hand_alone_grasp, hold_problems
+from graspframe.testing.kinematic_backend import KinematicBackend
 
 
 def _assert_none(what: str, problems: list[str]) -> None:
@@ -56,6 +60,7 @@ def assert_classifier_contract(classifier_cls) -> None:
 
 
 __all__ = [
+    "KinematicBackend",
     "arm_problems",
     "assert_arm_contract",
     "assert_backend_contract",

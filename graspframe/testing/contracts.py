@@ -24,6 +24,7 @@ from graspframe.hal.descriptions import (
     Mounting,
 )
 from graspframe.robot_model import CollisionModel, summarize_urdf
+from graspframe.transforms import R_from_rpy, make_T
 
 NAME_PATTERN = re.compile(r"^[a-z][a-z0-9_]*$")
 # URDF limits are written with limited precision; a description derived from the same
@@ -280,13 +281,39 @@ def estimate_problems(estimate: HumanGraspEstimate) -> list[str]:
 
 BACKEND_TRACKING_TOL = np.radians(0.5)  # [rad] arm joints must hold home this closely
 FREE_POSE_TOL = 1e-3  # [m] a free-floating hand must be placed this closely
+MOUNTED_PALM_TOL = 1e-3  # [m] the palm must be where the mounted model puts it
+# The backend contract mounts the hand turned on the flange and lifted off it, and the
+# arm off the world origin, so that a backend ignoring the given mounting or base shows.
+CONTRACT_T_FLANGE_HAND = make_T(R_from_rpy(0.0, 0.0, np.pi / 2), [0.0, 0.0, 0.01])
+CONTRACT_T_WORLD_ARM_BASE = make_T(p=[-0.05, 0.02, 0.0])
+
+
+def _mounted_palm_problems(world, robot, T_world_arm_base) -> list[str]:
+    """The measured palm pose against the mounted model's forward kinematics at the
+    measured joints."""
+    model = CollisionModel(robot.urdf_path)
+    q = robot.hand.with_model_followers(world.hand.joint_positions())
+    q.update(zip(robot.arm.joint_names, world.arm.joint_positions(), strict=True))
+    model.place(q)
+    T_world_palm_model = T_world_arm_base @ model.T_root_frame(robot.hand.palm_frame)
+    T_world_palm = np.asarray(world.hand.T_world_palm())
+    error = float(np.linalg.norm(T_world_palm[:3, 3] - T_world_palm_model[:3, 3]))
+    error_R = float(np.abs(T_world_palm[:3, :3] - T_world_palm_model[:3, :3]).max())
+    if error > MOUNTED_PALM_TOL or error_R > MOUNTED_PALM_TOL:
+        return [
+            f"the palm is {error * 1000:.1f} mm from where the mounted model "
+            f"({robot.urdf_path.name}, hand on the flange at config.robot.T_flange_hand, "
+            "arm base at config.T_world_arm_base) puts it: load config.robot.urdf_path"
+        ]
+    return []
 
 
 def backend_problems(backend_cls, hand, arm, obj) -> list[str]:
-    """A backend must build worlds (mounted and free-floating) whose drivers behave."""
+    """A backend must build worlds (mounted and free-floating) whose drivers behave, the
+    mounted one from the model the core mounted (`WorldConfig.robot`)."""
     from graspframe.contacts import Contact, PalmSensorReading
     from graspframe.hal.drivers import WorldConfig
-    from graspframe.transforms import make_T
+    from graspframe.mounting import mount
 
     problems = _name_problems("backend", getattr(backend_cls, "name", ""))
     try:
@@ -295,7 +322,14 @@ def backend_problems(backend_cls, hand, arm, obj) -> list[str]:
         return [*problems, f"cannot be built with no arguments: {type(exc).__name__}: {exc}"]
     # The object 0.5 m in front of the arm, resting on the table (top at z = 0).
     T_world_object = make_T(p=[0.5, 0.0, obj.half_height])
-    config = WorldConfig(hand=hand, arm=arm, object=obj, T_world_object=T_world_object)
+    robot = mount(arm, hand, CONTRACT_T_FLANGE_HAND)
+    config = WorldConfig(
+        hand=hand,
+        object=obj,
+        robot=robot,
+        T_world_arm_base=CONTRACT_T_WORLD_ARM_BASE,
+        T_world_object=T_world_object,
+    )
     try:
         world = backend.create_world(config)
     except Exception as exc:
@@ -329,13 +363,15 @@ def backend_problems(backend_cls, hand, arm, obj) -> list[str]:
         T_world_palm = np.asarray(world.hand.T_world_palm())
         if T_world_palm.shape != (4, 4):
             problems.append("T_world_palm() must return a 4x4 pose")
+        else:
+            problems += _mounted_palm_problems(world, robot, CONTRACT_T_WORLD_ARM_BASE)
         if (
             world.object is None
             or np.linalg.norm(world.object.T_world_object()[:3, 3] - T_world_object[:3, 3]) > 0.01
         ):
             problems.append("the object is not where the configuration put it")
 
-    free_config = WorldConfig(hand=hand, arm=None, object=None)
+    free_config = WorldConfig(hand=hand, object=None)
     try:
         with backend.create_world(free_config) as free_world:
             T_target = make_T(p=[0.1, -0.2, 0.5])

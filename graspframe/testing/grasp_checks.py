@@ -178,8 +178,8 @@ def hand_alone_grasp(
     checked = floating_plan(grasp, T_object_palm, T_world_object, hand, obj, 0.0)
     config = WorldConfig(
         hand=hand,
-        arm=checked.robot.arm,
         object=obj,
+        robot=checked.robot,
         T_world_arm_base=checked.T_world_base,
         T_world_object=T_world_object,
     )

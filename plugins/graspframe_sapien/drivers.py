@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -12,17 +11,14 @@ from numpy.typing import NDArray
 from graspframe.contacts import Contact, PalmSensorReading
 from graspframe.errors import GraspframeError, UnknownNameError
 from graspframe.grasps import PALM
-from graspframe.hal.descriptions import HandDescription
+from graspframe.hal.descriptions import DriveGains, HandDescription
 from graspframe.hal.drivers import ArmDriver, HandDriver, ObjectProbe
+from graspframe.hal.hand_control import HandController, holding_drive
 from graspframe.robot_model import CollisionModel
 from graspframe.transforms import inv_T
 from graspframe_sapien.articulation import active_joints
 from graspframe_sapien.contacts import read_contacts
 from graspframe_sapien.poses import to_pose, to_T
-
-# While a breakaway holds a leader joint, its drive is this much stiffer (the Barrett's
-# proximal link is held by a worm gear, which the finger's load cannot back-drive).
-HOLD_STIFFNESS_FACTOR = 20.0
 
 
 class _JointAccess:
@@ -76,13 +72,8 @@ LATCH_WINDOW = 50  # [steps] the palm sensor latches this long after a reading (
 
 
 class SapienHandDriver(HandDriver):
-    """Hand joints, couplings enforced by the controller (with breakaway), contacts.
-
-    Commands move velocity-limited setpoints (see `update`). Closing means increasing a
-    leader joint's angle. For a controller coupling with a breakaway torque (Barrett
-    TorqueSwitch), once the leader's drive torque exceeds it while closing, the leader is
-    held where it is and the follower keeps following the commanded motor position;
-    commanding the leader back below the held angle releases it.
+    """Hand joints driven by the core `HandController` (setpoints, couplings with
+    breakaway), contacts and the palm sensor.
 
     The palm sensor latches: a touch in any physics step since the last reading is
     reported (a brief knock on a light object lasts less than a control cycle). Reading
@@ -105,12 +96,8 @@ class SapienHandDriver(HandDriver):
         self._object_entity = object_entity
         self._access = _JointAccess(articulation, hand.joint_names)
         self._joint_by_name = dict(zip(self._access.names, self._access.joints, strict=True))
-        self._couplings = [c for c in hand.couplings if not c.in_model]
-        self._spec = {j.name: j for j in hand.joints}
-        self._max_velocity = {j.name: j.max_velocity for j in hand.joints}
-        self._commanded: dict[str, float] = dict.fromkeys(hand.joint_names, 0.0)
-        self._setpoint: dict[str, float] = dict.fromkeys(hand.joint_names, 0.0)
-        self._held: dict[str, float] = {}
+        self._controller = HandController(hand)
+        self._holding: set[str] = set()  # joints whose drive is the worm gear's hold
         self._finger_of_link = hand.finger_of_link()
         links = {link.name: link for link in articulation.get_links()}
         self._palm_link = links[hand.palm_frame]
@@ -127,74 +114,43 @@ class SapienHandDriver(HandDriver):
         return self._access.names
 
     def set_joint_targets(self, q_by_joint: Mapping[str, float]) -> None:
-        """Command joints [rad]. Followers of controller couplings follow their leader;
-        a value given for one is replaced by the coupling."""
-        for name, value in q_by_joint.items():
-            if name not in self._commanded:
-                raise UnknownNameError(f"joint of hand {self.hand.name!r}", name, self._commanded)
-            if not np.isfinite(value):
-                raise GraspframeError(f"hand target for {name!r} is not finite: {value}")
-            self._commanded[name] = float(value)
+        """Command joints [rad] (see `HandController.command`)."""
+        self._controller.command(q_by_joint)
         self.update()
 
     def update(self) -> None:
-        """Advance the setpoints and apply couplings; called before every physics step.
-
-        Each joint's setpoint (the motor position) moves towards its command at the
-        joint's velocity limit, as a real finger motor does; the drives track setpoints.
-        """
-        dt = self._scene.get_timestep()
-        for name, command in self._commanded.items():
-            step = self._max_velocity[name] * dt
-            setpoint = self._setpoint[name]
-            self._setpoint[name] = setpoint + float(np.clip(command - setpoint, -step, step))
+        """Advance the controller and send its targets to the drives; called before
+        every physics step."""
         q = dict(zip(self._access.names, self._access.positions(), strict=True))
         qd = dict(zip(self._access.names, self._access.velocities(), strict=True))
-        targets = dict(self._setpoint)
-        for c in self._couplings:
-            motor = self._setpoint[c.leader]
-            if c.breakaway_torque is not None:
-                held = self._held.get(c.leader)
-                drive = self.hand.drive
-                if held is not None and motor <= held:
-                    del self._held[c.leader]  # opening again releases the clutch
-                    self._set_drive(c.leader, holding=False)
-                elif held is None:
-                    torque = drive.stiffness * (motor - q[c.leader]) - drive.damping * qd[c.leader]
-                    if torque > c.breakaway_torque:
-                        self._held[c.leader] = float(q[c.leader])
-                        self._set_drive(c.leader, holding=True)
-            targets[c.leader] = self._held.get(c.leader, motor)
-            targets[c.follower] = c.multiplier * motor + c.offset
+        targets = self._controller.update(self._scene.get_timestep(), q, qd)
+        self._sync_holds()
         for name, target in targets.items():
-            spec = self._spec[name]
-            self._joint_by_name[name].set_drive_target(
-                float(np.clip(target, spec.lower, spec.upper))
-            )
+            self._joint_by_name[name].set_drive_target(target)
 
-    def _set_drive(self, joint_name: str, holding: bool) -> None:
-        """The normal drive, or the hold of a worm gear: much stiffer and not limited by
-        the motor's force (the load cannot back-drive the gear)."""
-        drive = self.hand.drive
-        if holding:
-            stiffness, force_limit = drive.stiffness * HOLD_STIFFNESS_FACTOR, math.inf
-        else:
-            stiffness, force_limit = drive.stiffness, drive.force_limit
-        self._joint_by_name[joint_name].set_drive_property(stiffness, drive.damping, force_limit)
+    def _sync_holds(self) -> None:
+        """Give the joints held by a breakaway the hold drive, the others their own."""
+        held = set(self._controller.held_leaders)
+        for name in held - self._holding:
+            self._set_drive(name, holding_drive(self.hand.drive))
+        for name in self._holding - held:
+            self._set_drive(name, self.hand.drive)
+        self._holding = held
+
+    def _set_drive(self, joint_name: str, drive: DriveGains) -> None:
+        self._joint_by_name[joint_name].set_drive_property(
+            drive.stiffness, drive.damping, drive.force_limit
+        )
 
     def reset_setpoints(self) -> None:
         """Make the measured positions the current setpoints and commands (after a teleport)."""
-        measured = self.joint_positions()
-        self._setpoint = dict(measured)
-        self._commanded = dict(measured)
-        for leader in self._held:
-            self._set_drive(leader, holding=False)
-        self._held.clear()
+        self._controller.reset(self.joint_positions())
+        self._sync_holds()
 
     @property
     def held_leaders(self) -> dict[str, float]:
         """Leader joints currently held by a breakaway, with the angle held [rad]."""
-        return dict(self._held)
+        return self._controller.held_leaders
 
     def joint_positions(self) -> dict[str, float]:
         return dict(zip(self._access.names, map(float, self._access.positions()), strict=True))

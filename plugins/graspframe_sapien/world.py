@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 
 from graspframe.hal.drivers import Backend, World, WorldConfig
-from graspframe.mounting import MountedRobot, mount
 from graspframe.transforms import as_pose
 from graspframe_sapien.articulation import (
     configure_drives,
@@ -42,13 +41,7 @@ class SapienWorld(World):
         self.object = SapienObjectProbe(self._object_actor) if self._object_actor else None
 
         hand, arm = config.hand, config.arm
-        self.robot: MountedRobot | None
-        if arm is not None:
-            self.robot = mount(arm, hand, config.T_flange_hand, config.mounting)
-            urdf_path = self.robot.urdf_path
-        else:
-            self.robot = None
-            urdf_path = hand.model_path
+        urdf_path = hand.model_path if config.robot is None else config.robot.urdf_path
         self.articulation = load_articulation(self._scene, urdf_path, fix_root=True)
         for link in self.articulation.get_links():
             link.disable_gravity = True

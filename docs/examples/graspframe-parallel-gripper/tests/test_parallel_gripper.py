@@ -51,7 +51,7 @@ def test_preshape_delta_matches_forward_kinematics(name):
 def test_the_jaws_close_in_sapien():
     backend = default_registry().get_backend("sapien")()
     # A free-floating gripper (no arm, no object), palm high above the table.
-    config = WorldConfig(hand=HAND, arm=None, object=None)
+    config = WorldConfig(hand=HAND, object=None)
     with backend.create_world(config) as world:
         world.hand.set_free_pose(make_T(p=[0.0, 0.0, 0.5]))
         pinch = HAND.preshape("pinch")
