@@ -24,8 +24,6 @@ axes. The file is written atomically.
 from __future__ import annotations
 
 import math
-import os
-import uuid
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -34,6 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError, InputError
+from graspframe.files import atomic_output
 from graspframe.transforms import inv_T, transform_points
 
 OBJECT_DIMENSIONS = {
@@ -619,13 +618,6 @@ def draw_snapshots(
     )
 
     path.parent.mkdir(parents=True, exist_ok=True)
-    # A unique name in the same folder, then a rename: readers never see a partial file.
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp")
-    try:
-        with open(tmp, "xb") as handle:
-            fig.savefig(handle, format="png", dpi=DPI, metadata={"Software": None})
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    with atomic_output(path) as stream:
+        fig.savefig(stream, format="png", dpi=DPI, metadata={"Software": None})
     return path
