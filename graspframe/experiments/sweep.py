@@ -15,6 +15,7 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
+from graspframe.defaults import DEFAULT_ARM, MOUNT_ARM, MOUNTS
 from graspframe.errors import InputError
 from graspframe.experiments.trials import (
     CONDITION_A,
@@ -25,7 +26,6 @@ from graspframe.experiments.trials import (
 )
 
 EXECUTORS = ("local", "dask")
-MOUNTS = ("arm", "floating")
 TRIALS_FILE = "trials.jsonl"
 
 
@@ -48,9 +48,9 @@ class SweepConfig:
     scheduler: str | None = None
     seed: int = 0
     time_limit: float = TRIAL_TIME_LIMIT
-    arm: str = "kuka"
+    arm: str = DEFAULT_ARM
     record: bool = False
-    mounts: tuple[str, ...] = ("arm",)
+    mounts: tuple[str, ...] = (MOUNT_ARM,)
     sizes: tuple[int, ...] = ()
 
     def __post_init__(self) -> None:

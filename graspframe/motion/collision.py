@@ -43,14 +43,13 @@ from types import MappingProxyType
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from graspframe.defaults import TABLE_HALF_SIZE
 from graspframe.errors import GraspframeError, UnknownNameError
 from graspframe.hal.objects import SHAPES, ObjectDescription
 from graspframe.robot_model import load_pinocchio_model
 from graspframe.transforms import as_pose, inv_T, make_T
 
 DEFAULT_MARGIN = 0.005  # [m] a robot link closer than this to an obstacle collides
-# [m] half extents of the simulated table top (same as graspframe_sapien.scene_objects)
-TABLE_HALF_SIZE = (0.30, 0.40, 0.02)
 TABLE = "table"
 OBJECT = "object"
 

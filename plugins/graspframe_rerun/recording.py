@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 import rerun as rr
 
+from graspframe.defaults import TABLE_HALF_SIZE
 from graspframe.grasps import PALM
 from graspframe.registry import default_registry
 from graspframe.robot_model import CollisionModel
@@ -34,7 +35,6 @@ FINGER_COLOURS = {
     "little": (102, 166, 30),
 }
 FALLBACK_COLOURS = [(230, 171, 2), (166, 118, 29), (31, 120, 180), (251, 154, 153)]
-TABLE_HALF_SIZE = (0.30, 0.40, 0.02)  # [m] drawn under the object
 HUMAN_VF_OFFSET = np.array([0.0, 0.25, 0.0])  # [m] human virtual fingers beside the robot's
 FORCE_ARROW_SCALE = 0.005  # [m/N]
 

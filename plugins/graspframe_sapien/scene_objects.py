@@ -6,10 +6,10 @@ import numpy as np
 import sapien
 from numpy.typing import NDArray
 
+from graspframe.defaults import TABLE_HALF_SIZE
 from graspframe.hal.objects import ObjectDescription
 from graspframe_sapien.poses import to_pose
 
-TABLE_HALF_SIZE = (0.30, 0.40, 0.02)  # [m] a 60 x 80 cm table top, 4 cm thick
 TABLE_FRICTION = (0.6, 0.5)  # static, dynamic [-]
 
 # SAPIEN's cylinder axis is its local x; object cylinders stand along the object's z.
