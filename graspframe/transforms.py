@@ -69,7 +69,7 @@ def R_from_quat_xyzw(quat_xyzw: ArrayLike) -> Mat3:
 
 
 def R_from_quat_wxyz(quat_wxyz: ArrayLike) -> Mat3:
-    return R_from_quat_xyzw(quat_wxyz_to_xyzw(quat_wxyz))
+    return Rotation.from_quat(np.asarray(quat_wxyz, dtype=float), scalar_first=True).as_matrix()
 
 
 def quat_xyzw_from_R(R: ArrayLike) -> NDArray[np.float64]:
@@ -77,7 +77,7 @@ def quat_xyzw_from_R(R: ArrayLike) -> NDArray[np.float64]:
 
 
 def quat_wxyz_from_R(R: ArrayLike) -> NDArray[np.float64]:
-    return quat_xyzw_to_wxyz(quat_xyzw_from_R(R))
+    return Rotation.from_matrix(np.asarray(R, dtype=float)).as_quat(scalar_first=True)
 
 
 def R_from_rpy(roll: float, pitch: float, yaw: float) -> Mat3:
@@ -91,6 +91,12 @@ def rpy_from_R(R: ArrayLike) -> NDArray[np.float64]:
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="Gimbal lock detected")
         return Rotation.from_matrix(np.asarray(R, dtype=float)).as_euler("xyz")
+
+
+def R_from_axis_angle(axis: ArrayLike, angle: float) -> Mat3:
+    """The rotation by `angle` [rad] about `axis` (any non-zero length)."""
+    axis = np.asarray(axis, dtype=float)
+    return Rotation.from_rotvec(axis / np.linalg.norm(axis) * angle).as_matrix()
 
 
 def rotation_angle(R_a: ArrayLike, R_b: ArrayLike) -> float:

@@ -10,6 +10,7 @@ from scipy.spatial.transform import Rotation
 
 from graspframe.errors import GraspframeError
 from graspframe.transforms import (
+    R_from_axis_angle,
     R_from_quat_wxyz,
     R_from_quat_xyzw,
     R_from_rpy,
@@ -72,6 +73,12 @@ def test_rpy_round_trip_and_rotation_angle(seed):
     assert rotation_angle(R, R) == pytest.approx(0.0, abs=1e-6)
     R_turn = R @ R_from_rpy(0.3, 0.0, 0.0)
     assert rotation_angle(R, R_turn) == pytest.approx(0.3, abs=1e-9)
+
+
+def test_axis_angle_turns_about_the_axis_of_any_length():
+    R = R_from_axis_angle([0.0, 0.0, 2.0], np.pi / 2)
+    np.testing.assert_allclose(R @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(R, R_from_rpy(0.0, 0.0, np.pi / 2), atol=1e-12)
 
 
 def test_as_pose_rejects_non_rigid_transforms():

@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from graspframe.transforms import make_T
 from tools.robot_models.urdf_builder import Box, Cylinder, Sphere, UrdfBuilder
 
 OUTPUT = Path(__file__).resolve().parents[2] / "robots" / "karlsruhe" / "karlsruhe.urdf"
@@ -113,13 +114,6 @@ R_BASE_MODEL = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
 P_MODEL_MOUNT_MM = np.array([0.0, sum(PALM_Y_MM) / 2, sum(PALM_BOXES_MM[0][1]) / 2])
 
 
-def _T(R: np.ndarray, p) -> np.ndarray:
-    T = np.eye(4)
-    T[:3, :3] = R
-    T[:3, 3] = p
-    return T
-
-
 def _Ry(angle_deg: float) -> np.ndarray:
     return Rotation.from_euler("y", angle_deg, degrees=True).as_matrix()
 
@@ -136,12 +130,12 @@ def thumb_base_rotation() -> np.ndarray:
 def dh(theta_deg: float, d_mm: float, a_mm: float, alpha_deg: float) -> np.ndarray:
     """One DH step [mm]: rotation theta about z, d along z, a along x, alpha about x."""
     rz = Rotation.from_euler("z", theta_deg, degrees=True).as_matrix()
-    return _T(rz, [0.0, 0.0, d_mm]) @ _T(_Rx(alpha_deg), [a_mm, 0.0, 0.0])
+    return make_T(rz, [0.0, 0.0, d_mm]) @ make_T(_Rx(alpha_deg), [a_mm, 0.0, 0.0])
 
 
 def thumb_tip_model_mm(t1_deg: float, t2_deg: float, length_mm: float = THUMB_DISTAL_MM):
     """The thumb tip in the model frame [mm] (the published chain, for checks and docs)."""
-    T = _T(thumb_base_rotation(), THUMB_BASE_MM)
+    T = make_T(thumb_base_rotation(), THUMB_BASE_MM)
     for theta, (d, a, alpha) in zip((t1_deg, t2_deg), THUMB_DH, strict=True):
         T = T @ dh(theta, d, a, alpha)
     return (T @ [length_mm, 0.0, 0.0, 1.0])[:3]
@@ -150,7 +144,9 @@ def thumb_tip_model_mm(t1_deg: float, t2_deg: float, length_mm: float = THUMB_DI
 def _xyz_rpy(T: np.ndarray) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """URDF origin (xyz [m], rpy [rad], R = Rz(yaw) Ry(pitch) Rx(roll)) of a transform.
 
-    At pitch = +-90 deg (gimbal lock) roll is set to 0 and yaw carries the rest."""
+    At pitch = +-90 deg (gimbal lock) roll is set to 0 and yaw carries the rest: the
+    opposite of `graspframe.transforms.rpy_from_R`, kept because the shipped URDF's
+    digits follow it."""
     R = T[:3, :3]
     cos_pitch = math.hypot(R[0, 0], R[1, 0])
     pitch = math.atan2(-R[2, 0], cos_pitch)
@@ -161,7 +157,7 @@ def _xyz_rpy(T: np.ndarray) -> tuple[tuple[float, ...], tuple[float, ...]]:
     return tuple(T[:3, 3]), (roll, pitch, yaw)
 
 
-T_BASE_MODEL = _T(R_BASE_MODEL, -R_BASE_MODEL @ (P_MODEL_MOUNT_MM * MM))
+T_BASE_MODEL = make_T(R_BASE_MODEL, -R_BASE_MODEL @ (P_MODEL_MOUNT_MM * MM))
 
 
 def _model_point(p_mm) -> np.ndarray:
@@ -232,7 +228,7 @@ def build() -> UrdfBuilder:
     b.joint(f"{P}palm_pad_joint", "fixed", f"{P}base", f"{P}palm_pad", tuple(p_pad))
     # palm x = model x, palm z = model y (palmar), palm y = z x x = -model z
     R_model_palm = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
-    T_base_palm = T_BASE_MODEL @ _T(R_model_palm, palm_frame_in_model_mm() * MM)
+    T_base_palm = T_BASE_MODEL @ make_T(R_model_palm, palm_frame_in_model_mm() * MM)
     b.link(f"{P}palm_frame")
     xyz, rpy = _xyz_rpy(T_base_palm)
     b.joint(f"{P}palm_frame_joint", "fixed", f"{P}base", f"{P}palm_frame", xyz, rpy)
@@ -246,7 +242,7 @@ def build() -> UrdfBuilder:
     whole_mm = {"ring": RING_MM, "little": LITTLE_MM}
     for finger, (p_mm, angle_deg) in FINGER_BASES_MM_DEG.items():
         r = FINGER_RADIUS_MM[finger] * MM
-        xyz, rpy = _xyz_rpy(T_BASE_MODEL @ _T(_Ry(angle_deg), np.asarray(p_mm) * MM))
+        xyz, rpy = _xyz_rpy(T_BASE_MODEL @ make_T(_Ry(angle_deg), np.asarray(p_mm) * MM))
         if finger in distal_mm:
             prox, dist = f"{P}{finger}_proximal", f"{P}{finger}_distal"
             length_p = INDEX_MIDDLE_PROXIMAL_MM * MM
@@ -271,7 +267,9 @@ def build() -> UrdfBuilder:
     # frame 2 before its alpha (d_2 = a_2 = 0; alpha_2 = 180 deg only flips y and z of
     # frame 2, x stays along the distal segment).
     r = FINGER_RADIUS_MM["thumb"] * MM
-    xyz, rpy = _xyz_rpy(T_BASE_MODEL @ _T(thumb_base_rotation(), np.asarray(THUMB_BASE_MM) * MM))
+    xyz, rpy = _xyz_rpy(
+        T_BASE_MODEL @ make_T(thumb_base_rotation(), np.asarray(THUMB_BASE_MM) * MM)
+    )
     (d1, a1, alpha1), _ = THUMB_DH
     prox, dist = f"{P}thumb_proximal", f"{P}thumb_distal"
     length_d = THUMB_DISTAL_MM * MM
