@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from graspframe.defaults import SCENE_FORMAT, SCENE_OBJECT_XY
+from graspframe.files import atomic_write
 from graspframe.grasps import HumanGrasp
 from graspframe.transforms import inv_T, make_T
 from graspframe.vision.render import Camera, Lighting, Renderer, composite
@@ -124,6 +125,6 @@ def write_demo(out_dir: Path | None = None, seed: int = 7) -> tuple[Path, Path]:
     out_dir = Path(out_dir or demo_dir())
     image, record = render_demo(seed)
     png, js = out_dir / "demo.png", out_dir / "scene.json"
-    cv2.imwrite(str(png), image)
-    js.write_text(json.dumps(record, indent=2) + "\n")
+    atomic_write(png, cv2.imencode(".png", image)[1].tobytes())
+    atomic_write(js, json.dumps(record, indent=2) + "\n")
     return png, js
