@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from graspframe.defaults import DEFAULT_CLASSIFIER
 from graspframe.vision.classifier import DEFAULT_K, HogKnnClassifier, UncertainGraspError
 from graspframe.vision.database import (
     build_database,
@@ -110,7 +111,9 @@ def main() -> None:
     parser.add_argument("--build-views", type=int, default=0, help="also time a build of N/grasp")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--real", type=Path, default=None, help="folder of real photos")
-    parser.add_argument("--classifier", default="hog_knn", help="with --real: classifier name")
+    parser.add_argument(
+        "--classifier", default=DEFAULT_CLASSIFIER, help="with --real: classifier name"
+    )
     args = parser.parse_args()
     if args.real is not None:
         from classifier_real import benchmark_folder  # the sibling script in benchmarks/

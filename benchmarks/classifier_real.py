@@ -23,6 +23,7 @@ import sys
 import time
 from pathlib import Path
 
+from graspframe.defaults import DEFAULT_CLASSIFIER
 from graspframe.errors import GraspframeError
 from graspframe.registry import get_classifier
 from graspframe.vision.classifier import DEFAULT_K
@@ -104,7 +105,9 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("folder", type=Path, help="photos and labels.csv")
     parser.add_argument("--k", type=int, default=DEFAULT_K)
-    parser.add_argument("--classifier", default="hog_knn", help="registered classifier name")
+    parser.add_argument(
+        "--classifier", default=DEFAULT_CLASSIFIER, help="registered classifier name"
+    )
     args = parser.parse_args()
     benchmark_folder(args.folder, args.classifier, args.k)
     return 0

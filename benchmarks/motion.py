@@ -15,6 +15,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from graspframe.defaults import DEFAULT_ARM, SCENE_OBJECT_XY
 from graspframe.motion import IkSolver, JointLimits, OnlineTrajectory, plan_joint_trajectory
 from graspframe.mounting import mount
 from graspframe.registry import default_registry
@@ -135,7 +136,7 @@ def simulation_real_time_factor(arm: str, hand: str) -> dict[str, float]:
     registry = default_registry()
     arm_d, hand_d = registry.get_arm(arm), registry.get_hand(hand)
     can = registry.get_object("large_cylinder")
-    T_world_object = make_T(p=[0.55, 0.2, can.half_height])
+    T_world_object = make_T(p=[*SCENE_OBJECT_XY, can.half_height])
     started = time.perf_counter()
     robot = mount(arm_d, hand_d)
     world = SapienBackend().create_world(
@@ -146,7 +147,7 @@ def simulation_real_time_factor(arm: str, hand: str) -> dict[str, float]:
     R_palm_down = R_from_rpy(np.pi, 0.0, 0.0)
     started = time.perf_counter()
     sim_start = world.time
-    motion.move_palm_to(make_T(R_palm_down, [0.55, 0.2, 0.30]))
+    motion.move_palm_to(make_T(R_palm_down, [*SCENE_OBJECT_XY, 0.30]))
     motion.move_palm_linear(np.array([0.0, 0.0, -1.0]), 0.12, 0.05)  # stops at contact
     world.hand.set_joint_targets(next(iter(hand_d.preshapes.values())).closed_q)
     remaining = max(0.0, 5.0 - (world.time - sim_start))
@@ -178,7 +179,7 @@ def print_figures(title: str, figures: dict[str, float]) -> None:
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--arm", default="kuka")
+    parser.add_argument("--arm", default=DEFAULT_ARM)
     parser.add_argument("--hand", default="barrett")
     args = parser.parse_args(argv)
     print(f"motion benchmark: arm {args.arm}, hand {args.hand}, control dt {CONTROL_DT} s")

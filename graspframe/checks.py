@@ -14,6 +14,7 @@ from __future__ import annotations
 import typer
 
 from graspframe import registry as registry_module
+from graspframe.defaults import DEFAULT_BACKEND
 from graspframe.grasps import HUMAN_HAND
 from graspframe.hal.descriptions import HandDescription, JointSpec
 from graspframe.hal.drivers import Backend
@@ -61,7 +62,7 @@ def check_hand_report(
 
 
 def check_hand_command(
-    name: str, registry: Registry | None = None, hold: bool = True, backend: str = "sapien"
+    name: str, registry: Registry | None = None, hold: bool = True, backend: str = DEFAULT_BACKEND
 ) -> int:
     """Check the registered hand `name`; print the result; 0 if it passed, else 1.
 

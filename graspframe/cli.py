@@ -18,7 +18,16 @@ from rich.console import Console
 from rich.table import Table
 
 from graspframe import __version__
+from graspframe.defaults import (
+    DEFAULT_ARM,
+    DEFAULT_BACKEND,
+    DEFAULT_CLASSIFIER,
+    DEFAULT_HAND,
+    MOUNT_ARM,
+    MOUNTS,
+)
 from graspframe.errors import GraspframeError, InputError
+from graspframe.experiments.trials import TRIAL_TIME_LIMIT
 
 app = typer.Typer(
     name="graspframe",
@@ -123,7 +132,7 @@ def _parse_error_mm(text: str) -> tuple[float, float]:
 
 @app.command()
 def run(
-    hand: Annotated[str, typer.Option(help="Robot hand plugin name.")] = "karlsruhe",
+    hand: Annotated[str, typer.Option(help="Robot hand plugin name.")] = DEFAULT_HAND,
     grasp: Annotated[
         str | None, typer.Option(help="The human grasp (skips vision), e.g. large_diameter.")
     ] = None,
@@ -133,8 +142,8 @@ def run(
     scene: Annotated[
         Path | None, typer.Option(help="Scene file of the image: camera and object poses.")
     ] = None,
-    classifier: Annotated[str, typer.Option(help="Classifier plugin name.")] = "hog_knn",
-    arm: Annotated[str, typer.Option(help="Arm plugin name.")] = "kuka",
+    classifier: Annotated[str, typer.Option(help="Classifier plugin name.")] = DEFAULT_CLASSIFIER,
+    arm: Annotated[str, typer.Option(help="Arm plugin name.")] = DEFAULT_ARM,
     object_name: Annotated[
         str | None, typer.Option("--object", help="Object name (default: the grasp's own).")
     ] = None,
@@ -142,7 +151,7 @@ def run(
         str, typer.Option(help="Error 'DX,DY' [mm] added to the object position the robot uses.")
     ] = "0,0",
     seed: Annotated[int, typer.Option(help="Seed of everything random in the run.")] = 0,
-    backend: Annotated[str, typer.Option(help="Backend plugin name.")] = "sapien",
+    backend: Annotated[str, typer.Option(help="Backend plugin name.")] = DEFAULT_BACKEND,
     out: Annotated[Path, typer.Option(help="Folder for run folders.")] = Path("runs"),
     human_contacts: Annotated[
         Path | None,
@@ -154,7 +163,7 @@ def run(
     mount: Annotated[
         str,
         typer.Option(help="arm (the hand on --arm) or floating (the hand alone, free base)."),
-    ] = "arm",
+    ] = MOUNT_ARM,
 ) -> None:
     """Image of a human grasp -> robot grasp on the arm in simulation, scored.
 
@@ -256,7 +265,7 @@ def classify(
     classifier: Annotated[
         str,
         typer.Option(help="Registered classifier: hog_knn, or landmarks (the `hands` extra)."),
-    ] = "hog_knn",
+    ] = DEFAULT_CLASSIFIER,
 ) -> None:
     """Classify the human grasp and hand orientation in one image."""
     from graspframe.vision.commands import classify_command
@@ -308,13 +317,15 @@ def evaluate(
         "runs/evaluate"
     ),
     seed: Annotated[int, typer.Option(help="Seed of every trial.")] = 0,
-    time_limit: Annotated[float, typer.Option(help="Per-trial wall-time limit [s].")] = 300.0,
+    time_limit: Annotated[
+        float, typer.Option(help="Per-trial wall-time limit [s].")
+    ] = TRIAL_TIME_LIMIT,
     record: Annotated[
         bool, typer.Option("--record/--no-record", help="Record every trial for rerun.")
     ] = False,
     mount: Annotated[
         str, typer.Option(help="Comma-separated mounts: arm, floating (the hand alone).")
-    ] = "arm",
+    ] = MOUNT_ARM,
     sizes: Annotated[
         str,
         typer.Option(
@@ -327,7 +338,7 @@ def evaluate(
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
 
     from graspframe.experiments.summary import plot_summary, summarize, write_tables
-    from graspframe.experiments.sweep import MOUNTS, SweepConfig, plan_trials, run_sweep
+    from graspframe.experiments.sweep import SweepConfig, plan_trials, run_sweep
     from graspframe.grasps import HumanGrasp
     from graspframe.registry import default_registry
 
@@ -401,7 +412,9 @@ def check_hand(
             "per preshape).",
         ),
     ] = True,
-    backend: Annotated[str, typer.Option(help="Physics backend of the hold check.")] = "sapien",
+    backend: Annotated[
+        str, typer.Option(help="Physics backend of the hold check.")
+    ] = DEFAULT_BACKEND,
 ) -> None:
     """Check a hand plugin against the contract and say, in plain words, what is wrong."""
     from graspframe.checks import check_hand_command

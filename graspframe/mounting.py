@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import DescriptionError
+from graspframe.files import atomic_write
 from graspframe.hal.descriptions import AdapterShape, ArmDescription, HandDescription, Mounting
 from graspframe.transforms import as_pose, make_T, rpy_from_R
 
@@ -189,8 +190,5 @@ def mount(
     digest = hashlib.sha256(text.encode()).hexdigest()[:16]
     path = cache_dir() / f"{arm.name}_{hand.name}_{digest}.urdf"
     if not path.exists():
-        # Write then rename, so a concurrent process never reads a half-written file.
-        tmp = path.with_suffix(f".{os.getpid()}.tmp")
-        tmp.write_text(text)
-        tmp.replace(path)
+        atomic_write(path, text)
     return MountedRobot(arm, hand, path, mount_joint, T_flange_hand, mounting)

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import platform
 from datetime import UTC, datetime
 from importlib.metadata import PackageNotFoundError, version
@@ -14,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from graspframe.contacts import Contact
+from graspframe.files import atomic_write
 
 VERSIONED_PACKAGES = ("graspframe", "sapien", "pin", "placo", "ruckig", "rerun-sdk", "numpy")
 
@@ -77,7 +77,5 @@ def read_json_file(path: Path | str, what: str) -> Any:
 
 
 def write_json(path: Path, data: dict) -> None:
-    """Write then rename, so a reader never sees half a file."""
-    tmp = path.with_suffix(f".{os.getpid()}.tmp")
-    tmp.write_text(json.dumps(jsonable(data), indent=2))
-    tmp.replace(path)
+    """Write `data` as JSON atomically: a reader never sees half a file."""
+    atomic_write(path, json.dumps(jsonable(data), indent=2))

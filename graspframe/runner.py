@@ -17,6 +17,16 @@ from pathlib import Path
 
 import numpy as np
 
+from graspframe.defaults import (
+    DEFAULT_ARM,
+    DEFAULT_BACKEND,
+    DEFAULT_CLASSIFIER,
+    MOUNT_ARM,
+    MOUNT_FLOATING,
+    MOUNTS,
+    SCENE_OBJECT_XY,
+    TABLE_HEIGHT,
+)
 from graspframe.errors import GraspframeError, InputError
 from graspframe.events import (
     CLASSIFY_DONE,
@@ -53,10 +63,6 @@ from graspframe.transforms import make_T
 
 log = logging.getLogger(__name__)
 
-SCENE_OBJECT_XY = (0.55, 0.20)  # [m]
-TABLE_HEIGHT = 0.0  # [m]
-MOUNT_ARM, MOUNT_FLOATING = "arm", "floating"
-MOUNTS = (MOUNT_ARM, MOUNT_FLOATING)
 MAX_OBJECT_ERROR = 0.5  # [m] larger injected errors are surely a unit mistake
 
 
@@ -77,12 +83,12 @@ class RunRequest:
     grasp: HumanGrasp | None = None
     image: str | None = None
     scene: str | None = None
-    classifier: str = "hog_knn"
-    arm: str = "kuka"
+    classifier: str = DEFAULT_CLASSIFIER
+    arm: str = DEFAULT_ARM
     object: str | None = None
     object_error: tuple[float, float] = (0.0, 0.0)
     seed: int = 0
-    backend: str = "sapien"
+    backend: str = DEFAULT_BACKEND
     out_root: str = "runs"
     human_contacts: str | None = None
     record: bool = True

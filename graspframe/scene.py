@@ -20,11 +20,12 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from graspframe.defaults import SCENE_FORMAT
 from graspframe.errors import GraspframeError, InputError
 from graspframe.results import read_json_file
 from graspframe.transforms import as_pose
 
-FORMAT = "graspframe.scene/1"
+FORMAT = SCENE_FORMAT
 UPRIGHT_TOL_DEG = 5.0  # the object's z axis this close to the world's
 ON_TABLE_TOL = 0.02  # [m] its bottom this close to the table top
 

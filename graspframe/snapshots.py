@@ -24,8 +24,6 @@ axes. The file is written atomically.
 from __future__ import annotations
 
 import math
-import os
-import uuid
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -34,13 +32,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError, InputError
+from graspframe.files import atomic_output
+from graspframe.hal.objects import SHAPES
+from graspframe.shapes import geometry_mesh, primitive_mesh
 from graspframe.transforms import inv_T, transform_points
-
-OBJECT_DIMENSIONS = {
-    "box": ("size_x", "size_y", "size_z"),
-    "cylinder": ("radius", "length"),
-    "sphere": ("radius",),
-}
 
 FAR_OBJECT = 0.5  # [m] an object further from the palm is left out of the framing
 PANEL_INCH = 4.0  # per panel; plus margins for the title, x labels, row labels:
@@ -186,75 +181,48 @@ _NO_POINTS = np.zeros((0, 3))
 _NO_RADII = np.zeros(0)
 
 
-def _box(half: NDArray[np.float64]) -> Solid:
-    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
-    return Solid(corners * half, _NO_POINTS, _NO_RADII)
-
-
-def _rings(radius: float, zs: Sequence[float]) -> NDArray[np.float64]:
-    ring = radius * _UNIT_CIRCLE
-    return np.concatenate([np.c_[ring, np.full(len(ring), z)] for z in zs])
-
-
-def _cylinder(radius: float, half_length: float) -> Solid:
-    return Solid(_rings(radius, (-half_length, half_length)), _NO_POINTS, _NO_RADII)
-
-
 def _sphere(radius: float) -> Solid:
     return Solid(_NO_POINTS, np.zeros((1, 3)), np.array([radius]))
 
 
+def _mesh_solid(mesh) -> Solid:
+    return Solid(np.asarray(mesh.vertices, dtype=float), _NO_POINTS, _NO_RADII)
+
+
 def solid_of_geometry(geometry) -> Solid | None:
     """The Solid (in the shape's frame) of a coal collision geometry; None if it cannot be
-    drawn. Meshes and other kinds fall back to their local bounding box."""
+    drawn. Spheres and capsules are discs (exact outlines); other kinds are the vertices
+    of their mesh (`graspframe.shapes.geometry_mesh`)."""
     kind = type(geometry).__name__
-    if kind == "Box":
-        return _box(np.asarray(geometry.halfSide, dtype=float))
-    if kind == "Cylinder":
-        return _cylinder(float(geometry.radius), float(geometry.halfLength))
     if kind == "Sphere":
         return _sphere(float(geometry.radius))
     if kind == "Capsule":
         h = float(geometry.halfLength)
         return Solid(_NO_POINTS, np.array([[0, 0, -h], [0, 0, h]]), np.full(2, geometry.radius))
-    if kind == "Cone":
-        h = float(geometry.halfLength)
-        points = np.vstack([_rings(float(geometry.radius), (-h,)), [[0.0, 0.0, h]]])
-        return Solid(points, _NO_POINTS, _NO_RADII)
-    try:
-        geometry.computeLocalAABB()
-        low = np.asarray(geometry.aabb_local.min_, dtype=float)
-        high = np.asarray(geometry.aabb_local.max_, dtype=float)
-    except Exception:  # an exotic geometry: not drawn rather than failing the run's picture
-        return None
-    if not (np.all(np.isfinite(low)) and np.all(np.isfinite(high))):
-        return None
-    box = _box((high - low) / 2)
-    return Solid(box.points + (high + low) / 2, _NO_POINTS, _NO_RADII)
+    mesh = geometry_mesh(geometry, sections=RING_POINTS)
+    return None if mesh is None else _mesh_solid(mesh)
 
 
 def object_solid(shape: str, dimensions: Mapping[str, float]) -> Solid:
     """The object's Solid in the object frame; InputError for an unknown shape or a
     missing or non-positive dimension."""
-    if shape not in OBJECT_DIMENSIONS:
-        known = ", ".join(OBJECT_DIMENSIONS)
+    if shape not in SHAPES:
+        known = ", ".join(SHAPES)
         raise InputError(f"unknown object shape {shape!r}; known shapes: {known}")
     values = {}
-    for key in OBJECT_DIMENSIONS[shape]:
+    for key in SHAPES[shape]:
         try:
             values[key] = float(dimensions[key])
         except (KeyError, TypeError, ValueError):
             raise InputError(
                 f"object {shape}: dimension {key!r} missing or not a number "
-                f"(needs {', '.join(OBJECT_DIMENSIONS[shape])} [m])"
+                f"(needs {', '.join(SHAPES[shape])} [m])"
             ) from None
         if not (math.isfinite(values[key]) and values[key] > 0):
             raise InputError(f"object {shape}: dimension {key!r} must be > 0 m, got {values[key]}")
-    if shape == "box":
-        return _box(np.array([values["size_x"], values["size_y"], values["size_z"]]) / 2)
-    if shape == "cylinder":
-        return _cylinder(values["radius"], values["length"] / 2)
-    return _sphere(values["radius"])
+    if shape == "sphere":
+        return _sphere(values["radius"])
+    return _mesh_solid(primitive_mesh(shape, values, sections=RING_POINTS))
 
 
 def project(solid: Solid, view: View) -> tuple[NDArray[np.float64], float]:
@@ -622,13 +590,6 @@ def draw_snapshots(
     )
 
     path.parent.mkdir(parents=True, exist_ok=True)
-    # A unique name in the same folder, then a rename: readers never see a partial file.
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp")
-    try:
-        with open(tmp, "xb") as handle:
-            fig.savefig(handle, format="png", dpi=DPI, metadata={"Software": None})
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    with atomic_output(path) as stream:
+        fig.savefig(stream, format="png", dpi=DPI, metadata={"Software": None})
     return path

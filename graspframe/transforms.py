@@ -54,22 +54,12 @@ def rotate_vectors(T_or_R_a_b: ArrayLike, v_b: ArrayLike) -> NDArray[np.float64]
     return np.asarray(v_b, dtype=float) @ M[:3, :3].T
 
 
-def quat_wxyz_to_xyzw(quat_wxyz: ArrayLike) -> NDArray[np.float64]:
-    w, x, y, z = np.asarray(quat_wxyz, dtype=float)
-    return np.array([x, y, z, w])
-
-
-def quat_xyzw_to_wxyz(quat_xyzw: ArrayLike) -> NDArray[np.float64]:
-    x, y, z, w = np.asarray(quat_xyzw, dtype=float)
-    return np.array([w, x, y, z])
-
-
 def R_from_quat_xyzw(quat_xyzw: ArrayLike) -> Mat3:
     return Rotation.from_quat(np.asarray(quat_xyzw, dtype=float)).as_matrix()
 
 
 def R_from_quat_wxyz(quat_wxyz: ArrayLike) -> Mat3:
-    return R_from_quat_xyzw(quat_wxyz_to_xyzw(quat_wxyz))
+    return Rotation.from_quat(np.asarray(quat_wxyz, dtype=float), scalar_first=True).as_matrix()
 
 
 def quat_xyzw_from_R(R: ArrayLike) -> NDArray[np.float64]:
@@ -77,7 +67,7 @@ def quat_xyzw_from_R(R: ArrayLike) -> NDArray[np.float64]:
 
 
 def quat_wxyz_from_R(R: ArrayLike) -> NDArray[np.float64]:
-    return quat_xyzw_to_wxyz(quat_xyzw_from_R(R))
+    return Rotation.from_matrix(np.asarray(R, dtype=float)).as_quat(scalar_first=True)
 
 
 def R_from_rpy(roll: float, pitch: float, yaw: float) -> Mat3:
@@ -91,6 +81,12 @@ def rpy_from_R(R: ArrayLike) -> NDArray[np.float64]:
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="Gimbal lock detected")
         return Rotation.from_matrix(np.asarray(R, dtype=float)).as_euler("xyz")
+
+
+def R_from_axis_angle(axis: ArrayLike, angle: float) -> Mat3:
+    """The rotation by `angle` [rad] about `axis` (any non-zero length)."""
+    axis = np.asarray(axis, dtype=float)
+    return Rotation.from_rotvec(axis / np.linalg.norm(axis) * angle).as_matrix()
 
 
 def rotation_angle(R_a: ArrayLike, R_b: ArrayLike) -> float:

@@ -10,6 +10,7 @@ from scipy.spatial.transform import Rotation
 
 from graspframe.errors import GraspframeError
 from graspframe.transforms import (
+    R_from_axis_angle,
     R_from_quat_wxyz,
     R_from_quat_xyzw,
     R_from_rpy,
@@ -17,9 +18,7 @@ from graspframe.transforms import (
     inv_T,
     make_T,
     quat_wxyz_from_R,
-    quat_wxyz_to_xyzw,
     quat_xyzw_from_R,
-    quat_xyzw_to_wxyz,
     rotation_angle,
     rpy_from_R,
     transform_points,
@@ -51,7 +50,7 @@ def test_compose_and_inverse(seed_a, seed_b):
 def test_quaternion_orders_round_trip_and_sign_is_irrelevant(seed):
     R = random_T(seed)[:3, :3]
     quat_wxyz = quat_wxyz_from_R(R)
-    np.testing.assert_allclose(quat_xyzw_to_wxyz(quat_wxyz_to_xyzw(quat_wxyz)), quat_wxyz)
+    np.testing.assert_allclose(np.roll(quat_xyzw_from_R(R), 1), quat_wxyz)  # same order, w first
     np.testing.assert_allclose(R_from_quat_wxyz(quat_wxyz), R, atol=1e-12)
     np.testing.assert_allclose(R_from_quat_wxyz(-quat_wxyz), R, atol=1e-12)
     np.testing.assert_allclose(R_from_quat_xyzw(quat_xyzw_from_R(R)), R, atol=1e-12)
@@ -72,6 +71,12 @@ def test_rpy_round_trip_and_rotation_angle(seed):
     assert rotation_angle(R, R) == pytest.approx(0.0, abs=1e-6)
     R_turn = R @ R_from_rpy(0.3, 0.0, 0.0)
     assert rotation_angle(R, R_turn) == pytest.approx(0.3, abs=1e-9)
+
+
+def test_axis_angle_turns_about_the_axis_of_any_length():
+    R = R_from_axis_angle([0.0, 0.0, 2.0], np.pi / 2)
+    np.testing.assert_allclose(R @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(R, R_from_rpy(0.0, 0.0, np.pi / 2), atol=1e-12)
 
 
 def test_as_pose_rejects_non_rigid_transforms():

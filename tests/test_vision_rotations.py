@@ -52,8 +52,11 @@ def test_average_is_bi_invariant_and_sign_free(seed):
 
 def test_weights_pull_the_mean():
     a, b = _R([0, 0, 1], 0.0), _R([0, 0, 1], 1.0)
-    assert angle_deg(average_rotations([a, b], [1.0, 0.0]), a) < 1e-9
-    assert angle_deg(average_rotations([a, b], [1.0, 1.0]), _R([0, 0, 1], 0.5)) < 1e-6
+    # Matrices compared directly: arccos resolves angles only to ~1e-8 rad near 0.
+    np.testing.assert_allclose(average_rotations([a, b], [1.0, 0.0]), a, atol=1e-12)
+    np.testing.assert_allclose(
+        average_rotations([a, b], [1.0, 1.0]), _R([0, 0, 1], 0.5), atol=1e-12
+    )
 
 
 def test_bad_input_is_refused():
@@ -61,3 +64,16 @@ def test_bad_input_is_refused():
         average_rotations(np.zeros((0, 3, 3)))
     with pytest.raises(GraspframeError):
         average_rotations([np.eye(3)], [-1.0])
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31), n=st.integers(1, 10))
+def test_average_is_the_top_eigenvector_of_the_weighted_quaternion_outer_products(seed, n):
+    rng = np.random.default_rng(seed)
+    base = Rotation.random(random_state=seed)
+    rotations = base * Rotation.from_rotvec(rng.normal(scale=0.5, size=(n, 3)))
+    w = rng.uniform(0.0, 1.0, n) + 1e-3
+    quats = rotations.as_quat()
+    _, vectors = np.linalg.eigh((quats * w[:, None]).T @ quats)
+    expected = Rotation.from_quat(vectors[:, -1]).as_matrix()
+    np.testing.assert_allclose(average_rotations(rotations.as_matrix(), w), expected, atol=1e-12)

@@ -21,6 +21,7 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from graspframe.grasps import PALM
 from graspframe.registry import default_registry
 from graspframe.robot_model import CollisionModel
+from graspframe.shapes import geometry_mesh
 from graspframe.transforms import inv_T
 
 OUT_DIR = Path(__file__).parents[1] / "docs" / "images"
@@ -28,50 +29,12 @@ FINGER_COLOURS = ["#d95f02", "#1b9e77", "#7570b3", "#e7298a", "#66a61e", "#e6ab0
 PALM_COLOUR = "#999999"
 
 
-def _box_faces(half, T):
-    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
-    points = corners * half @ T[:3, :3].T + T[:3, 3]
-    quads = [(0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5)]
-    return [points[list(q)] for q in quads]
-
-
-def _cylinder_faces(radius, half_length, T, n=16):
-    angles = np.linspace(0, 2 * np.pi, n + 1)
-    ring = np.stack([radius * np.cos(angles), radius * np.sin(angles)], axis=1)
-    bottom = np.c_[ring, -half_length * np.ones(n + 1)] @ T[:3, :3].T + T[:3, 3]
-    top = np.c_[ring, half_length * np.ones(n + 1)] @ T[:3, :3].T + T[:3, 3]
-    sides = [np.array([bottom[i], bottom[i + 1], top[i + 1], top[i]]) for i in range(n)]
-    return [*sides, bottom[:-1], top[:-1]]
-
-
-def _sphere_faces(radius, T, n=10):
-    faces = []
-    lat = np.linspace(0, np.pi, n)
-    lon = np.linspace(0, 2 * np.pi, 2 * n)
-    for i in range(n - 1):
-        for j in range(2 * n - 1):
-            quad = []
-            for a, b in ((i, j), (i, j + 1), (i + 1, j + 1), (i + 1, j)):
-                quad.append(
-                    [
-                        radius * np.sin(lat[a]) * np.cos(lon[b]),
-                        radius * np.sin(lat[a]) * np.sin(lon[b]),
-                        radius * np.cos(lat[a]),
-                    ]
-                )
-            faces.append(np.array(quad) @ T[:3, :3].T + T[:3, 3])
-    return faces
-
-
-def shape_faces(shape, T):
-    kind = type(shape).__name__
-    if kind == "Box":
-        return _box_faces(np.asarray(shape.halfSide), T)
-    if kind == "Cylinder":
-        return _cylinder_faces(shape.radius, shape.halfLength, T)
-    if kind == "Sphere":
-        return _sphere_faces(shape.radius, T)
-    raise ValueError(f"cannot draw a {kind}")
+def shape_faces(shape, T) -> np.ndarray:
+    """Triangles (n, 3, 3) [m] of a collision shape's mesh, in the frame T maps into."""
+    mesh = geometry_mesh(shape)
+    if mesh is None:
+        raise ValueError(f"cannot draw a {type(shape).__name__}")
+    return (np.asarray(mesh.vertices) @ T[:3, :3].T + T[:3, 3])[mesh.faces]
 
 
 def draw(hand, preshape, path: Path) -> None:

@@ -17,6 +17,7 @@ from pathlib import Path
 
 from graspframe_human.taxonomy import contact_problems
 
+from graspframe.defaults import DEFAULT_BACKEND
 from graspframe.grasps import HumanGrasp
 from graspframe.registry import default_registry
 from graspframe.strategy.human_reference import simulate_human_grasp
@@ -35,7 +36,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     registry = default_registry()
     human = registry.get_hand("human")
-    backend = registry.get_backend("sapien")()
+    backend = registry.get_backend(DEFAULT_BACKEND)()
     grasps = (
         list(HumanGrasp)
         if args.grasps == "all"

@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import csv
+import io
 import math
 from pathlib import Path
 
 import numpy as np
+
+from graspframe.files import atomic_output, atomic_write
 
 COLUMNS = (
     "mount",
@@ -131,11 +134,12 @@ def write_tables(summary: list[dict], out_dir: Path) -> tuple[Path, Path]:
     """summary.csv and summary.md in out_dir."""
     csv_path, md_path = Path(out_dir) / "summary.csv", Path(out_dir) / "summary.md"
     size_columns = [k for k in (summary[0] if summary else {}) if k not in COLUMNS]
-    with csv_path.open("w", newline="") as stream:
-        writer = csv.DictWriter(stream, fieldnames=[*COLUMNS, *size_columns])
-        writer.writeheader()
-        for row in summary:
-            writer.writerow({k: ("" if row.get(k) is None else row[k]) for k in writer.fieldnames})
+    table = io.StringIO(newline="")
+    writer = csv.DictWriter(table, fieldnames=[*COLUMNS, *size_columns])
+    writer.writeheader()
+    for row in summary:
+        writer.writerow({k: ("" if row.get(k) is None else row[k]) for k in writer.fieldnames})
+    atomic_write(csv_path, table.getvalue())
     sizes = [k.removesuffix("_success") for k in size_columns if k.endswith("_success")]
     size_headers = "".join(f" | A held at {int(c[1:])}%" for c in sizes)
     lines = [
@@ -171,7 +175,7 @@ def write_tables(summary: list[dict], out_dir: Path) -> tuple[Path, Path]:
         "(docs/method.md); A human held: the simulated human reference grasp passes the "
         "same held test.",
     ]
-    md_path.write_text("\n".join(lines) + "\n")
+    atomic_write(md_path, "\n".join(lines) + "\n")
     return csv_path, md_path
 
 
@@ -234,7 +238,8 @@ def plot_summary(summary: list[dict], path: Path) -> Path:
         "and grasp quality"
     )
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    with atomic_output(path) as stream:
+        fig.savefig(stream, format=Path(path).suffix.lstrip(".") or "png", dpi=100)
     plt.close(fig)
     return path
 

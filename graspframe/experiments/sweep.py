@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from graspframe.defaults import DEFAULT_ARM, MOUNT_ARM, MOUNTS
 from graspframe.errors import InputError
 from graspframe.experiments.trials import (
     CONDITION_A,
@@ -26,7 +27,6 @@ from graspframe.experiments.trials import (
 )
 
 EXECUTORS = ("local", "dask")
-MOUNTS = ("arm", "floating")
 TRIALS_FILE = "trials.jsonl"
 
 
@@ -49,9 +49,9 @@ class SweepConfig:
     scheduler: str | None = None
     seed: int = 0
     time_limit: float = TRIAL_TIME_LIMIT
-    arm: str = "kuka"
+    arm: str = DEFAULT_ARM
     record: bool = False
-    mounts: tuple[str, ...] = ("arm",)
+    mounts: tuple[str, ...] = (MOUNT_ARM,)
     sizes: tuple[int, ...] = ()
 
     def __post_init__(self) -> None:

@@ -12,6 +12,7 @@ import multiprocessing
 import time
 from dataclasses import asdict, dataclass
 
+from graspframe.defaults import DEFAULT_ARM, MOUNT_ARM
 from graspframe.grasps import HumanGrasp
 
 CONDITION_A = "A"
@@ -33,9 +34,9 @@ class TrialSpec:
     object_error: tuple[float, float]
     seed: int
     runs_dir: str
-    arm: str = "kuka"
+    arm: str = DEFAULT_ARM
     record: bool = False
-    mount: str = "arm"
+    mount: str = MOUNT_ARM
     object: str | None = None
 
     @property

@@ -56,14 +56,25 @@ class ObjectDescription:
             raise DescriptionError(f"object {self.name!r}: dimensions and mass must be > 0")
 
     @property
-    def largest_dimension(self) -> float:
-        """[m] the largest extent of the object."""
+    def half_extents(self) -> tuple[float, float, float]:
+        """[m] half the object's size along its x, y, z (its bounding box about the
+        centroid, object frame)."""
         d = self.dimensions
         if self.shape == "box":
-            return max(d.values())
+            return (d["size_x"] / 2, d["size_y"] / 2, d["size_z"] / 2)
         if self.shape == "cylinder":
-            return max(2 * d["radius"], d["length"])
-        return 2 * d["radius"]
+            return (d["radius"], d["radius"], d["length"] / 2)
+        return (d["radius"],) * 3
+
+    @property
+    def largest_dimension(self) -> float:
+        """[m] the largest extent of the object."""
+        return 2 * max(self.half_extents)
+
+    @property
+    def symmetric_about_z(self) -> bool:
+        """True when any turn about the object's z axis leaves it unchanged."""
+        return self.shape in ("cylinder", "sphere")
 
     @property
     def volume(self) -> float:
@@ -81,19 +92,14 @@ class ObjectDescription:
         centroid."""
         n = np.abs(np.asarray(n_object, dtype=float))
         n = n / np.linalg.norm(n)
-        d = self.dimensions
+        radius, _, half_length = self.half_extents
         if self.shape == "box":
-            return float(n @ [d["size_x"] / 2, d["size_y"] / 2, d["size_z"] / 2])
+            return float(n @ self.half_extents)
         if self.shape == "cylinder":
-            return float(n[2] * d["length"] / 2 + math.sqrt(max(0.0, 1 - n[2] ** 2)) * d["radius"])
-        return d["radius"]
+            return float(n[2] * half_length + math.sqrt(max(0.0, 1 - n[2] ** 2)) * radius)
+        return radius
 
     @property
     def half_height(self) -> float:
         """Half the extent along the object's z [m] (distance from centroid to table)."""
-        d = self.dimensions
-        if self.shape == "box":
-            return d["size_z"] / 2
-        if self.shape == "cylinder":
-            return d["length"] / 2
-        return d["radius"]
+        return self.half_extents[2]

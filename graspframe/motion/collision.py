@@ -43,14 +43,14 @@ from types import MappingProxyType
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from graspframe.defaults import TABLE_HALF_SIZE
 from graspframe.errors import GraspframeError, UnknownNameError
 from graspframe.hal.objects import SHAPES, ObjectDescription
 from graspframe.robot_model import load_pinocchio_model
+from graspframe.shapes import coal_geometry
 from graspframe.transforms import as_pose, inv_T, make_T
 
 DEFAULT_MARGIN = 0.005  # [m] a robot link closer than this to an obstacle collides
-# [m] half extents of the simulated table top (same as graspframe_sapien.scene_objects)
-TABLE_HALF_SIZE = (0.30, 0.40, 0.02)
 TABLE = "table"
 OBJECT = "object"
 
@@ -94,14 +94,7 @@ class Obstacle:
 
     def collision_geometry(self):
         """The coal shape, centred on the obstacle frame (cylinder axis = its z)."""
-        import coal
-
-        d = self.dimensions
-        if self.shape == "box":
-            return coal.Box(d["size_x"], d["size_y"], d["size_z"])
-        if self.shape == "cylinder":
-            return coal.Cylinder(d["radius"], d["length"])
-        return coal.Sphere(d["radius"])
+        return coal_geometry(self.shape, self.dimensions)
 
     def moved(self, T_new_world: ArrayLike) -> Obstacle:
         """The same obstacle after the rigid motion T_new_world (pose of the old world

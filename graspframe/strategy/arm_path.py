@@ -46,7 +46,6 @@ from graspframe.strategy.planner import (
     PlannerParams,
     PlanningError,
     Variant,
-    is_symmetric_about_z,
     plan_grasp,
 )
 from graspframe.transforms import inv_T
@@ -73,7 +72,7 @@ class CheckedPlan:
 def variants(obj: ObjectDescription, side: bool) -> Iterator[Variant]:
     """The alternatives tried in order: as planned, a higher via, then turned about the
     object's axis (symmetric objects), then held higher up the object (side grasps)."""
-    yaws = YAWS_DEG if is_symmetric_about_z(obj) else (0.0,)
+    yaws = YAWS_DEG if obj.symmetric_about_z else (0.0,)
     raises = RAISES if side else (0.0,)
     seen = set()
     for raise_along_axis in raises:

@@ -22,49 +22,28 @@ from graspframe.grasps import PALM
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.objects import ObjectDescription
 from graspframe.robot_model import CollisionModel
+from graspframe.shapes import coal_geometry, geometry_mesh
 from graspframe.transforms import inv_T
 
 SWEEP_SAMPLES = 16  # configurations between open and closed
-_CIRCLE = np.linspace(0.0, 2.0 * np.pi, 12, endpoint=False)
+RING_SECTIONS = 12  # sides of a cylinder's mesh: its rims are sampled at 30 deg
 
 
 def shape_points(shape, T) -> np.ndarray:
-    """Points bounding a box, cylinder or sphere, in the frame T maps into. A sphere
-    gives its centre and its extreme points along that frame's axes (exact for the
-    lowest point along any of those axes)."""
-    kind = type(shape).__name__
-    if kind == "Box":
-        half = np.asarray(shape.halfSide)
-        local = (
-            np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * half
-        )
-    elif kind == "Cylinder":
-        ring = np.stack([np.cos(_CIRCLE), np.sin(_CIRCLE)], axis=1) * shape.radius
-        local = np.concatenate(
-            [np.c_[ring, np.full(len(ring), z)] for z in (-shape.halfLength, shape.halfLength)]
-        )
-    else:  # sphere: its extreme points along the frame's axes
-        local = np.concatenate([np.eye(3), -np.eye(3)]) * shape.radius
-        return local + T[:3, 3]
-    return local @ T[:3, :3].T + T[:3, 3]
+    """Points bounding a collision shape (its mesh's vertices), in the frame T maps
+    into. A sphere gives its extreme points along that frame's axes instead (exact for
+    the lowest point along any of those axes; their mean is its centre)."""
+    if type(shape).__name__ == "Sphere":
+        return np.concatenate([np.eye(3), -np.eye(3)]) * shape.radius + T[:3, 3]
+    mesh = geometry_mesh(shape, sections=RING_SECTIONS)
+    if mesh is None:
+        return T[:3, 3].reshape(1, 3)
+    return np.asarray(mesh.vertices) @ T[:3, :3].T + T[:3, 3]
 
 
 @functools.lru_cache(maxsize=16)
 def _collision_model(model_path: str) -> CollisionModel:
     return CollisionModel(model_path)
-
-
-def _object_geometry(obj: ObjectDescription):
-    """The object as a coal shape, and the transform from the object frame to it (coal
-    cylinders are along their z, like the object's axis)."""
-    import coal
-
-    d = obj.dimensions
-    if obj.shape == "box":
-        return coal.Box(d["size_x"], d["size_y"], d["size_z"])
-    if obj.shape == "cylinder":
-        return coal.Cylinder(d["radius"], d["length"])
-    return coal.Sphere(d["radius"])
 
 
 def _interpolate(preshape: HandPreshape, s: float, frozen: Mapping[str, float]) -> dict:
@@ -110,7 +89,7 @@ def closing_configurations(
     finger_of_link = hand.finger_of_link()
     geometry = None
     if obj is not None and T_palm_object is not None:
-        geometry = _object_geometry(obj)
+        geometry = coal_geometry(obj.shape, obj.dimensions)
         model.place(hand.with_model_followers(dict(preshape.open_q)))
         T_root_object = model.T_root_frame(hand.palm_frame) @ T_palm_object
         tf_object = coal.Transform3s(T_root_object[:3, :3], T_root_object[:3, 3])

@@ -223,11 +223,6 @@ def object_in_palm(
     return centre
 
 
-def is_symmetric_about_z(obj: ObjectDescription) -> bool:
-    """True when any turn about the object's z axis leaves it unchanged."""
-    return obj.shape in ("cylinder", "sphere")
-
-
 def plan_grasp(
     grasp: HumanGrasp,
     T_object_human_palm: NDArray[np.float64],
@@ -249,7 +244,7 @@ def plan_grasp(
     T_world_object_est = as_pose(T_world_object_est, "T_world_object_est")
     if not params.pre_approach_distance > 0:
         raise PlanningError("pre_approach_distance must be > 0 [m]")
-    if variant.yaw_deg and not is_symmetric_about_z(obj):
+    if variant.yaw_deg and not obj.symmetric_about_z:
         raise PlanningError(f"a {obj.shape} is not symmetric about its axis: no yaw variant")
     preshape = hand.preshape_for(grasp)
     volar = grasp.volar_for_robot

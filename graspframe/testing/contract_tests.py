@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import pytest
 
+from graspframe.defaults import DEFAULT_ARM, DEFAULT_BACKEND
 from graspframe.grasps import HUMAN_HAND
 from graspframe.registry import default_registry
 from graspframe.testing import (
@@ -46,7 +47,7 @@ def test_hand_closes_its_preshapes(hand_name):
 @pytest.mark.parametrize("hand_name", ROBOT_HANDS)
 def test_hand_alone_holds_its_design_objects(hand_name):
     registry = default_registry()
-    backend = _first("backend", "sapien")
+    backend = _first("backend", DEFAULT_BACKEND)
     if backend is None:
         pytest.skip("the hold check needs a registered physics backend")
     assert_hand_holds_design_objects(registry.get_hand(hand_name), registry.get_backend(backend)())
@@ -70,7 +71,7 @@ def _first(kind: str, preferred: str) -> str | None:
 @pytest.mark.parametrize("backend_name", _names("backend"))
 def test_backend_contract(backend_name):
     registry = default_registry()
-    hand, arm, obj = _first("hand", "barrett"), _first("arm", "kuka"), _first("object", "")
+    hand, arm, obj = _first("hand", "barrett"), _first("arm", DEFAULT_ARM), _first("object", "")
     if hand is None or arm is None or obj is None:
         pytest.skip("a backend is checked with a registered hand, arm and object")
     assert_backend_contract(

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from graspframe.defaults import DEFAULT_CLASSIFIER
 from graspframe.errors import InputError
 from graspframe.transforms import rpy_from_R
 
@@ -68,7 +69,7 @@ def estimate_as_dict(estimate) -> dict:
 
 
 def classify_command(
-    image: Path, k: int = 8, as_json: bool = False, classifier: str = "hog_knn"
+    image: Path, k: int = 8, as_json: bool = False, classifier: str = DEFAULT_CLASSIFIER
 ) -> int:
     """Classify the human grasp in one image with a registered classifier.
 

@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError, InputError
+from graspframe.files import atomic_output, atomic_write
 from graspframe.grasps import HumanGrasp
 from graspframe.transforms import quat_xyzw_from_R
 from graspframe.vision.features import HOG_PARAMETERS, hog_descriptor
@@ -66,19 +67,21 @@ class ViewDatabase:
         """Write `<stem>.npz` and `<stem>.json`; returns both paths."""
         npz_path = Path(npz_path).with_suffix(".npz")
         npz_path.parent.mkdir(parents=True, exist_ok=True)
-        np.savez_compressed(
-            npz_path,
-            descriptors=self.descriptors.astype(np.float16),
-            labels=self.labels.astype(np.uint8),
-            quat_xyzw=self.quat_xyzw.astype(np.float32),
-            crop_extent_m=self.crop_extent_m.astype(np.float16),
-            palm_offset=self.palm_offset.astype(np.float16),
-            view_ids=self.view_ids.astype(np.int32),
-            pca_mean=self.pca.mean.astype(np.float32),
-            pca_components=self.pca.components.astype(np.float16),
+        with atomic_output(npz_path) as stream:
+            np.savez_compressed(
+                stream,
+                descriptors=self.descriptors.astype(np.float16),
+                labels=self.labels.astype(np.uint8),
+                quat_xyzw=self.quat_xyzw.astype(np.float32),
+                crop_extent_m=self.crop_extent_m.astype(np.float16),
+                palm_offset=self.palm_offset.astype(np.float16),
+                view_ids=self.view_ids.astype(np.int32),
+                pca_mean=self.pca.mean.astype(np.float32),
+                pca_components=self.pca.components.astype(np.float16),
+            )
+        json_path = atomic_write(
+            npz_path.with_suffix(".json"), json.dumps(self.metadata, indent=2) + "\n"
         )
-        json_path = npz_path.with_suffix(".json")
-        json_path.write_text(json.dumps(self.metadata, indent=2) + "\n")
         return npz_path, json_path
 
 

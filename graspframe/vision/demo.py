@@ -13,15 +13,15 @@ from pathlib import Path
 
 import numpy as np
 
+from graspframe.defaults import SCENE_FORMAT, SCENE_OBJECT_XY
+from graspframe.files import atomic_write
 from graspframe.grasps import HumanGrasp
 from graspframe.transforms import inv_T, make_T
 from graspframe.vision.render import Camera, Lighting, Renderer, composite
 from graspframe.vision.scene import HandModel, T_palm_object, object_mesh, primitive
 from graspframe.vision.views import SKIN_TONES, R_world_camera_looking, background
 
-SCENE_FORMAT = "graspframe.scene/1"
 GRASP = HumanGrasp.LARGE_DIAMETER
-OBJECT_XY = (0.55, 0.2)  # [m]
 OBJECT_YAW = 0.0  # [rad] the human grasps from the robot's side (palm facing world +x)
 CAMERA_DISTANCE = 0.6  # [m] from the point between palm and object
 CAMERA_ELEVATION = np.radians(30.0)  # [rad] looking down
@@ -42,7 +42,7 @@ def demo_scene() -> dict:
             [0, 0, 1],
         ]
     )[:3, :3]
-    T_world_object = make_T(R_yaw, [*OBJECT_XY, obj.half_height])
+    T_world_object = make_T(R_yaw, [*SCENE_OBJECT_XY, obj.half_height])
     T_world_palm = T_world_object @ inv_T(T_palm_obj)
     target = (T_world_object[:3, 3] + T_world_palm[:3, 3]) / 2
     e, a = CAMERA_ELEVATION, CAMERA_AZIMUTH
@@ -125,6 +125,6 @@ def write_demo(out_dir: Path | None = None, seed: int = 7) -> tuple[Path, Path]:
     out_dir = Path(out_dir or demo_dir())
     image, record = render_demo(seed)
     png, js = out_dir / "demo.png", out_dir / "scene.json"
-    cv2.imwrite(str(png), image)
-    js.write_text(json.dumps(record, indent=2) + "\n")
+    atomic_write(png, cv2.imencode(".png", image)[1].tobytes())
+    atomic_write(js, json.dumps(record, indent=2) + "\n")
     return png, js

@@ -1,5 +1,5 @@
 """Averaging rotations: the weighted chordal L2 mean via quaternions (Markley et al.,
-"Averaging Quaternions", J. Guidance 2007).
+"Averaging Quaternions", J. Guidance 2007), as computed by scipy's `Rotation.mean`.
 
 The mean maximises sum_i w_i (q_i . q)^2 over unit quaternions q: the eigenvector of the
 largest eigenvalue of M = sum_i w_i q_i q_i^T. The outer product is the same for q and
@@ -11,9 +11,10 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
 
 from graspframe.errors import GraspframeError
-from graspframe.transforms import R_from_quat_xyzw, quat_xyzw_from_R, rotation_angle
+from graspframe.transforms import rotation_angle
 
 
 def average_rotations(rotations: ArrayLike, weights: ArrayLike | None = None) -> NDArray:
@@ -24,10 +25,7 @@ def average_rotations(rotations: ArrayLike, weights: ArrayLike | None = None) ->
     w = np.ones(len(Rs)) if weights is None else np.asarray(weights, dtype=float)
     if w.shape != (len(Rs),) or np.any(w < 0) or not w.sum() > 0:
         raise GraspframeError("rotation weights must be N values >= 0 with a positive sum")
-    quats = np.array([quat_xyzw_from_R(R) for R in Rs])
-    M = (quats * w[:, None]).T @ quats
-    _, vectors = np.linalg.eigh(M)
-    return R_from_quat_xyzw(vectors[:, -1])
+    return Rotation.from_matrix(Rs).mean(weights=w).as_matrix()
 
 
 def angle_deg(R_a: ArrayLike, R_b: ArrayLike) -> float:

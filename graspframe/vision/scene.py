@@ -17,11 +17,10 @@ from numpy.typing import NDArray
 
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.objects import ObjectDescription
+from graspframe.shapes import geometry_primitive, unit_primitive, unit_scale
 from graspframe.transforms import inv_T, transform_points
 
 PALM_FRAME = "hh_palm_frame"
-SPHERE_SUBDIVISIONS = 2
-CYLINDER_SECTIONS = 20
 
 
 @dataclass(frozen=True)
@@ -50,15 +49,8 @@ def _unindexed(mesh: trimesh.Trimesh, smooth: bool) -> Mesh:
 def _unit_meshes() -> dict[str, Mesh]:
     """Unit box (extents 1), unit cylinder (radius 1, height 1, along z), unit sphere."""
     return {
-        "box": _unindexed(trimesh.creation.box(extents=(1.0, 1.0, 1.0)), smooth=False),
-        "cylinder": _unindexed(
-            trimesh.creation.cylinder(radius=1.0, height=1.0, sections=CYLINDER_SECTIONS),
-            smooth=True,
-        ),
-        "sphere": _unindexed(
-            trimesh.creation.icosphere(subdivisions=SPHERE_SUBDIVISIONS, radius=1.0),
-            smooth=True,
-        ),
+        kind: _unindexed(unit_primitive(kind), smooth=kind != "box")
+        for kind in ("box", "cylinder", "sphere")
     }
 
 
@@ -73,24 +65,15 @@ def primitive(kind: str, scale_xyz) -> Mesh:
 
 def object_mesh(obj: ObjectDescription) -> Mesh:
     """The object's surface in its own frame (centroid, cylinders along z) [m]."""
-    d = obj.dimensions
-    if obj.shape == "box":
-        return primitive("box", (d["size_x"], d["size_y"], d["size_z"]))
-    if obj.shape == "cylinder":
-        return primitive("cylinder", (d["radius"], d["radius"], d["length"]))
-    return primitive("sphere", (d["radius"],) * 3)
+    return primitive(obj.shape, unit_scale(obj.shape, obj.dimensions))
 
 
 def _coal_mesh(shape) -> Mesh:
-    kind = type(shape).__name__
-    if kind == "Box":
-        return primitive("box", 2.0 * np.asarray(shape.halfSide))
-    if kind == "Cylinder":
-        r = shape.radius
-        return primitive("cylinder", (r, r, 2.0 * shape.halfLength))
-    if kind == "Sphere":
-        return primitive("sphere", (shape.radius,) * 3)
-    raise ValueError(f"cannot draw a {kind} collision shape")
+    primitive_of_shape = geometry_primitive(shape)
+    if primitive_of_shape is None:
+        raise ValueError(f"cannot draw a {type(shape).__name__} collision shape")
+    kind, dimensions = primitive_of_shape
+    return primitive(kind, unit_scale(kind, dimensions))
 
 
 class HandModel:

@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.objects import ObjectDescription
+from graspframe.transforms import R_from_axis_angle
 from graspframe.vision.render import Camera, Lighting, Renderer, composite
 from graspframe.vision.scene import HandModel, Mesh, T_palm_object, object_mesh
 from graspframe.vision.segmentation import skin_pixels
@@ -115,13 +116,6 @@ class RenderedView:
     camera: Camera
 
 
-def _rotation_about(axis, angle: float) -> NDArray[np.float64]:
-    from scipy.spatial.transform import Rotation
-
-    axis = np.asarray(axis, dtype=float)
-    return Rotation.from_rotvec(axis / np.linalg.norm(axis) * angle).as_matrix()
-
-
 def R_world_camera_looking(
     elevation: float, azimuth: float, roll: float = 0.0
 ) -> NDArray[np.float64]:
@@ -138,7 +132,7 @@ def R_world_camera_looking(
     x /= np.linalg.norm(x)
     y = np.cross(to_target, x)
     R = np.column_stack([x, y, to_target])
-    return R @ _rotation_about([0.0, 0.0, 1.0], roll)
+    return R @ R_from_axis_angle([0.0, 0.0, 1.0], roll)
 
 
 @functools.cache
@@ -155,7 +149,7 @@ def sample_view(
     R_world_obj = np.eye(3)
     tilt = np.radians(dist.tilt_deg) * np.sqrt(rng.uniform())
     tilt_axis = rng.uniform(0, 2 * np.pi)
-    R_world_obj = _rotation_about([np.cos(tilt_axis), np.sin(tilt_axis), 0.0], tilt)
+    R_world_obj = R_from_axis_angle([np.cos(tilt_axis), np.sin(tilt_axis), 0.0], tilt)
     R_world_palm = R_world_obj @ R_palm_obj.T
     R_world_cam = R_world_camera_looking(
         np.radians(rng.uniform(*dist.elevation_deg)),

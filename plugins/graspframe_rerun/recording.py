@@ -24,10 +24,12 @@ import numpy as np
 import rerun as rr
 
 from graspframe import events
+from graspframe.defaults import TABLE_HALF_SIZE
 from graspframe.errors import GraspframeError
 from graspframe.events import RunInfo
 from graspframe.grasps import PALM
 from graspframe.robot_model import CollisionModel
+from graspframe.shapes import geometry_mesh, primitive_mesh
 
 FINGER_COLOURS = {
     PALM: (150, 150, 150),
@@ -38,7 +40,6 @@ FINGER_COLOURS = {
     "little": (102, 166, 30),
 }
 FALLBACK_COLOURS = [(230, 171, 2), (166, 118, 29), (31, 120, 180), (251, 154, 153)]
-TABLE_HALF_SIZE = (0.30, 0.40, 0.02)  # [m] drawn under the object
 HUMAN_VF_OFFSET = np.array([0.0, 0.25, 0.0])  # [m] human virtual fingers beside the robot's
 FORCE_ARROW_SCALE = 0.005  # [m/N]
 
@@ -49,29 +50,23 @@ def finger_colour(name: str) -> tuple[int, int, int]:
     return FALLBACK_COLOURS[sum(map(ord, name)) % len(FALLBACK_COLOURS)]
 
 
+def _mesh_archetype(mesh, colour) -> rr.Mesh3D:
+    return rr.Mesh3D(
+        vertex_positions=mesh.vertices,
+        triangle_indices=mesh.faces,
+        vertex_normals=mesh.vertex_normals,
+        albedo_factor=colour,
+    )
+
+
 def _shape_archetype(shape, colour):
-    kind = type(shape).__name__
-    if kind == "Box":
-        return rr.Boxes3D(half_sizes=[shape.halfSide], colors=[colour], fill_mode="solid")
-    if kind == "Cylinder":
-        return rr.Cylinders3D(
-            lengths=[2 * shape.halfLength], radii=[shape.radius], colors=[colour], fill_mode="solid"
-        )
-    if kind == "Sphere":
-        return rr.Ellipsoids3D(half_sizes=[[shape.radius] * 3], colors=[colour], fill_mode="solid")
-    return None
+    """A robot collision shape as a mesh; None when it cannot be meshed."""
+    mesh = geometry_mesh(shape)
+    return None if mesh is None else _mesh_archetype(mesh, colour)
 
 
 def _object_archetype(obj, colour=(200, 170, 60)):
-    d = obj.dimensions
-    if obj.shape == "box":
-        half = [d["size_x"] / 2, d["size_y"] / 2, d["size_z"] / 2]
-        return rr.Boxes3D(half_sizes=[half], colors=[colour], fill_mode="solid")
-    if obj.shape == "cylinder":
-        return rr.Cylinders3D(
-            lengths=[d["length"]], radii=[d["radius"]], colors=[colour], fill_mode="solid"
-        )
-    return rr.Ellipsoids3D(half_sizes=[[d["radius"]] * 3], colors=[colour], fill_mode="solid")
+    return _mesh_archetype(primitive_mesh(obj.shape, obj.dimensions), colour)
 
 
 def _transform(T) -> rr.Transform3D:

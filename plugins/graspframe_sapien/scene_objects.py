@@ -6,10 +6,10 @@ import numpy as np
 import sapien
 from numpy.typing import NDArray
 
+from graspframe.defaults import TABLE_HALF_SIZE
 from graspframe.hal.objects import ObjectDescription
 from graspframe_sapien.poses import to_pose
 
-TABLE_HALF_SIZE = (0.30, 0.40, 0.02)  # [m] a 60 x 80 cm table top, 4 cm thick
 TABLE_FRICTION = (0.6, 0.5)  # static, dynamic [-]
 
 # SAPIEN's cylinder axis is its local x; object cylinders stand along the object's z.
@@ -33,20 +33,15 @@ def build_object(scene: sapien.Scene, obj: ObjectDescription, T_world_object):
         obj.static_friction, obj.dynamic_friction, obj.restitution
     )
     density = obj.mass / obj.volume  # uniform density gives exactly obj.mass
-    d = obj.dimensions
+    half_x, _, half_z = obj.half_extents
     if obj.shape == "box":
-        half = [d["size_x"] / 2, d["size_y"] / 2, d["size_z"] / 2]
-        builder.add_box_collision(half_size=half, material=material, density=density)
+        builder.add_box_collision(half_size=obj.half_extents, material=material, density=density)
     elif obj.shape == "cylinder":
         builder.add_cylinder_collision(
-            pose=_X_TO_Z,
-            radius=d["radius"],
-            half_length=d["length"] / 2,
-            material=material,
-            density=density,
+            pose=_X_TO_Z, radius=half_x, half_length=half_z, material=material, density=density
         )
     else:
-        builder.add_sphere_collision(radius=d["radius"], material=material, density=density)
+        builder.add_sphere_collision(radius=half_x, material=material, density=density)
     actor = builder.build(name=obj.name)
     actor.set_pose(to_pose(T_world_object))
     return actor

@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from graspframe.transforms import R_from_axis_angle, inv_T, make_T, rpy_from_R
 from tools.robot_models.urdf_builder import Box, Cylinder, Sphere, UrdfBuilder
 
 PREFIX = "hh_"
@@ -152,31 +153,11 @@ class _Frames:
         self.T: dict[str, np.ndarray] = {}
 
     def set(self, link: str, R: np.ndarray, p: np.ndarray) -> None:
-        T = np.eye(4)
-        T[:3, :3] = R
-        T[:3, 3] = p
-        self.T[link] = T
+        self.T[link] = make_T(R, p)
 
     def origin(self, parent: str, child: str) -> tuple[tuple, tuple]:
-        T = np.linalg.inv(self.T[parent]) @ self.T[child]
-        return _fmt_round(T[:3, 3]), _fmt_round(_rpy_of(T[:3, :3]))
-
-
-def _rpy_of(R: np.ndarray) -> tuple[float, float, float]:
-    """URDF roll, pitch, yaw of R = Rz(yaw) Ry(pitch) Rx(roll); yaw = 0 at gimbal lock."""
-    pitch = math.asin(max(-1.0, min(1.0, -R[2, 0])))
-    if math.cos(pitch) > 1e-9:
-        return math.atan2(R[2, 1], R[2, 2]), pitch, math.atan2(R[1, 0], R[0, 0])
-    return math.atan2(-R[1, 2], R[1, 1]), pitch, 0.0
-
-
-def _rotate(x: np.ndarray, axis: np.ndarray, angle: float) -> np.ndarray:
-    """x turned by angle [rad] about the unit vector axis (Rodrigues)."""
-    return (
-        x * math.cos(angle)
-        + np.cross(axis, x) * math.sin(angle)
-        + axis * (axis @ x) * (1 - math.cos(angle))
-    )
+        T = inv_T(self.T[parent]) @ self.T[child]
+        return _fmt_round(T[:3, 3]), _fmt_round(rpy_from_R(T[:3, :3]))
 
 
 def _hand_to_root(u: float, v: float, w: float) -> np.ndarray:
@@ -269,7 +250,8 @@ def build(hand_length: float = HAND_LENGTH_M) -> UrdfBuilder:
     # Thumb frame at its zero pose: z along the metacarpal, -x towards the thumb pad.
     radial = math.radians(THUMB_REST_RADIAL_DEG)
     z_t = _hand_to_root(math.cos(radial), -math.sin(radial), 0.0)
-    pad_dir = _rotate(_hand_to_root(0.0, 0.0, 1.0), z_t, -math.radians(THUMB_REST_PRONATION_DEG))
+    w_root = _hand_to_root(0.0, 0.0, 1.0)
+    pad_dir = R_from_axis_angle(z_t, -math.radians(THUMB_REST_PRONATION_DEG)) @ w_root
     x_t = -pad_dir
     R_thumb = np.column_stack([x_t, np.cross(z_t, x_t), z_t])
     # Abduction axis (root frame), signed so that a positive angle lifts the thumb to +w.
@@ -277,7 +259,7 @@ def build(hand_length: float = HAND_LENGTH_M) -> UrdfBuilder:
     abd_axis_root = _hand_to_root(
         math.cos(palmar) * math.cos(ulnar), math.cos(palmar) * math.sin(ulnar), math.sin(palmar)
     )
-    if _rotate(z_t, abd_axis_root, 0.1) @ _hand_to_root(0.0, 0.0, 1.0) < 0:
+    if R_from_axis_angle(abd_axis_root, 0.1) @ z_t @ w_root < 0:
         abd_axis_root = -abd_axis_root
     thumb_abd_axis = R_thumb.T @ abd_axis_root
     cmc = _hand_to_root(*(c * mm for c in THUMB_CMC_MM))
@@ -289,7 +271,9 @@ def build(hand_length: float = HAND_LENGTH_M) -> UrdfBuilder:
     e1 = _unit(np.cross(helper, a))
     R_thenar = np.column_stack([e1, np.cross(a, e1), a])  # local z along the axis
     shapes_by_link["thumb_cmc"] = [
-        Cylinder(thenar_r, s1 - s0, _fmt_round(a * (s0 + s1) / 2), _fmt_round(_rpy_of(R_thenar))),
+        Cylinder(
+            thenar_r, s1 - s0, _fmt_round(a * (s0 + s1) / 2), _fmt_round(rpy_from_R(R_thenar))
+        ),
         Sphere(thenar_r, _fmt_round(a * s0)),
         Sphere(thenar_r, _fmt_round(a * s1)),
     ]

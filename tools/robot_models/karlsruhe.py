@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from graspframe.transforms import make_T
 from tools.robot_models.urdf_builder import Box, Cylinder, Sphere, UrdfBuilder
 
 OUTPUT = Path(__file__).resolve().parents[2] / "robots" / "karlsruhe" / "karlsruhe.urdf"
@@ -113,13 +114,6 @@ R_BASE_MODEL = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
 P_MODEL_MOUNT_MM = np.array([0.0, sum(PALM_Y_MM) / 2, sum(PALM_BOXES_MM[0][1]) / 2])
 
 
-def _T(R: np.ndarray, p) -> np.ndarray:
-    T = np.eye(4)
-    T[:3, :3] = R
-    T[:3, 3] = p
-    return T
-
-
 def _Ry(angle_deg: float) -> np.ndarray:
     return Rotation.from_euler("y", angle_deg, degrees=True).as_matrix()
 
@@ -132,7 +126,9 @@ def thumb_base_rotation() -> np.ndarray:
 def _xyz_rpy(T: np.ndarray) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """URDF origin (xyz [m], rpy [rad], R = Rz(yaw) Ry(pitch) Rx(roll)) of a transform.
 
-    At pitch = +-90 deg (gimbal lock) roll is set to 0 and yaw carries the rest."""
+    At pitch = +-90 deg (gimbal lock) roll is set to 0 and yaw carries the rest: the
+    opposite of `graspframe.transforms.rpy_from_R`, kept because the shipped URDF's
+    digits follow it."""
     R = T[:3, :3]
     cos_pitch = math.hypot(R[0, 0], R[1, 0])
     pitch = math.atan2(-R[2, 0], cos_pitch)
@@ -143,7 +139,7 @@ def _xyz_rpy(T: np.ndarray) -> tuple[tuple[float, ...], tuple[float, ...]]:
     return tuple(T[:3, 3]), (roll, pitch, yaw)
 
 
-T_BASE_MODEL = _T(R_BASE_MODEL, -R_BASE_MODEL @ (P_MODEL_MOUNT_MM * MM))
+T_BASE_MODEL = make_T(R_BASE_MODEL, -R_BASE_MODEL @ (P_MODEL_MOUNT_MM * MM))
 
 
 def _model_point(p_mm) -> np.ndarray:
@@ -214,7 +210,7 @@ def build() -> UrdfBuilder:
     b.joint(f"{P}palm_pad_joint", "fixed", f"{P}base", f"{P}palm_pad", tuple(p_pad))
     # palm x = model x, palm z = model y (palmar), palm y = z x x = -model z
     R_model_palm = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
-    T_base_palm = T_BASE_MODEL @ _T(R_model_palm, palm_frame_in_model_mm() * MM)
+    T_base_palm = T_BASE_MODEL @ make_T(R_model_palm, palm_frame_in_model_mm() * MM)
     b.link(f"{P}palm_frame")
     xyz, rpy = _xyz_rpy(T_base_palm)
     b.joint(f"{P}palm_frame_joint", "fixed", f"{P}base", f"{P}palm_frame", xyz, rpy)
@@ -228,7 +224,7 @@ def build() -> UrdfBuilder:
     whole_mm = {"ring": RING_MM, "little": LITTLE_MM}
     for finger, (p_mm, angle_deg) in FINGER_BASES_MM_DEG.items():
         r = FINGER_RADIUS_MM[finger] * MM
-        xyz, rpy = _xyz_rpy(T_BASE_MODEL @ _T(_Ry(angle_deg), np.asarray(p_mm) * MM))
+        xyz, rpy = _xyz_rpy(T_BASE_MODEL @ make_T(_Ry(angle_deg), np.asarray(p_mm) * MM))
         if finger in distal_mm:
             prox, dist = f"{P}{finger}_proximal", f"{P}{finger}_distal"
             length_p = INDEX_MIDDLE_PROXIMAL_MM * MM
@@ -253,7 +249,9 @@ def build() -> UrdfBuilder:
     # frame 2 before its alpha (d_2 = a_2 = 0; alpha_2 = 180 deg only flips y and z of
     # frame 2, x stays along the distal segment).
     r = FINGER_RADIUS_MM["thumb"] * MM
-    xyz, rpy = _xyz_rpy(T_BASE_MODEL @ _T(thumb_base_rotation(), np.asarray(THUMB_BASE_MM) * MM))
+    xyz, rpy = _xyz_rpy(
+        T_BASE_MODEL @ make_T(thumb_base_rotation(), np.asarray(THUMB_BASE_MM) * MM)
+    )
     (d1, a1, alpha1), _ = THUMB_DH
     prox, dist = f"{P}thumb_proximal", f"{P}thumb_distal"
     length_d = THUMB_DISTAL_MM * MM

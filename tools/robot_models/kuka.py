@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 from graspframe_kuka.description import JOINTS
 
+from graspframe.transforms import rpy_from_R
 from tools.robot_models.urdf_builder import Box, Cylinder, UrdfBuilder
 
 OUTPUT = Path(__file__).resolve().parents[2] / "robots" / "kuka" / "kuka.urdf"
@@ -118,14 +119,6 @@ def dh_frames_at_zero() -> list[np.ndarray]:
     return frames
 
 
-def _rpy_of(R: np.ndarray) -> tuple[float, float, float]:
-    """URDF roll-pitch-yaw of a rotation matrix (R = Rz(yaw) Ry(pitch) Rx(roll))."""
-    pitch = math.atan2(-R[2, 0], math.hypot(R[0, 0], R[1, 0]))
-    if math.hypot(R[0, 0], R[1, 0]) < 1e-9:  # pitch = +-90 deg: put the whole turn in roll
-        return math.atan2(-R[1, 2], R[1, 1]), pitch, 0.0
-    return math.atan2(R[2, 1], R[2, 2]), pitch, math.atan2(R[1, 0], R[0, 0])
-
-
 def _clean(v) -> tuple[float, ...]:
     """Round away floating-point noise so the output is tidy and deterministic."""
     return tuple(float(x) + 0.0 for x in np.round(np.asarray(v, dtype=float), 9))
@@ -169,7 +162,7 @@ def build() -> UrdfBuilder:
         links[-1],
         "kr5_flange",
         xyz=_clean(T6[:3, 3] - previous),
-        rpy=_clean(_rpy_of(T6[:3, :3])),
+        rpy=_clean(rpy_from_R(T6[:3, :3])),
     )
     return b
 

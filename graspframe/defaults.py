@@ -1,0 +1,20 @@
+"""Defaults defined once: the plugins a run uses unless told otherwise, and the scene.
+
+The CLI, the runner, the sweep, the vision demo, the plugins and the tools import these
+names instead of repeating the values.
+"""
+
+from __future__ import annotations
+
+DEFAULT_HAND = "karlsruhe"  # `graspframe run` without --hand
+DEFAULT_ARM = "kuka"
+DEFAULT_CLASSIFIER = "hog_knn"
+DEFAULT_BACKEND = "sapien"
+
+MOUNT_ARM, MOUNT_FLOATING = "arm", "floating"
+MOUNTS = (MOUNT_ARM, MOUNT_FLOATING)
+
+SCENE_FORMAT = "graspframe.scene/1"  # the "format" value of a scene file
+SCENE_OBJECT_XY = (0.55, 0.20)  # [m] where the object stands in the world
+TABLE_HEIGHT = 0.0  # [m] world z of the table top
+TABLE_HALF_SIZE = (0.30, 0.40, 0.02)  # [m] a 60 x 80 cm table top, 4 cm thick

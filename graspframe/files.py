@@ -1,0 +1,47 @@
+"""Writing files so that a reader never sees a partial one.
+
+`atomic_write` writes to a temporary file with a unique name in the target's folder,
+flushes it to disk, then renames it over the target (`os.replace`, atomic on one file
+system). Processes and threads writing the same path at once each use their own
+temporary file, so the target is always one writer's whole content.
+"""
+
+from __future__ import annotations
+
+import os
+import uuid
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import BinaryIO
+
+
+def temporary_path(path: Path) -> Path:
+    """A hidden name beside `path`, unique to this process and call."""
+    return path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp")
+
+
+@contextmanager
+def atomic_output(path: Path | str) -> Iterator[BinaryIO]:
+    """A binary stream whose content replaces `path` when the block ends without an
+    exception; on an exception the target is untouched and the temporary file removed.
+    The parent folder must exist."""
+    path = Path(path)
+    tmp = temporary_path(path)
+    try:
+        with open(tmp, "xb") as stream:
+            yield stream
+            stream.flush()
+            os.fsync(stream.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def atomic_write(path: Path | str, data: bytes | str) -> Path:
+    """Replace `path` with `data` (str is written as UTF-8) atomically; returns the path."""
+    content = data.encode() if isinstance(data, str) else data
+    with atomic_output(path) as stream:
+        stream.write(content)
+    return Path(path)
