@@ -55,7 +55,7 @@ def evaluate(db, views, k: int, index_kind: str = "hnsw") -> dict:
             continue
         truth.append(GRASPS.index(view.grasp))
         predicted.append(GRASPS.index(estimate.grasp))
-        error = angle_deg(estimate.R_cam_hand, view.T_cam_palm[:3, :3])
+        error = angle_deg(estimate.R_camera_palm, view.T_camera_palm[:3, :3])
         errors.append(error)
         if estimate.grasp == view.grasp:
             correct_errors.append(error)

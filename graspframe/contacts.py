@@ -7,44 +7,59 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from graspframe.errors import GraspframeError
 from graspframe.transforms import inv_T, rotate_vectors, transform_points
+
+WORLD = "world"  # the frame a backend measures contacts in
+OBJECT = "object"  # the object's centroid frame, where grasps are compared
+CONTACT_FRAMES = (WORLD, OBJECT)
 
 
 @dataclass(frozen=True)
 class Contact:
-    """One contact point between a hand link and the object, in the world frame.
+    """One contact point between a hand link and the object, expressed in `frame`.
 
     link: the hand link touching the object.
     real_finger: the real finger that link belongs to (see HandDescription.real_fingers).
-    p_world: contact position [m].
-    n_world: unit contact normal pointing from the object into the hand.
-    f_world: force the hand exerts on the object at this point [N].
+    p: contact position [m].
+    n: unit contact normal pointing from the object into the hand.
+    f: force the hand exerts on the object at this point [N].
+    frame: "world" (as a backend reports it) or "object" (the object's centroid frame).
     """
 
     link: str
     real_finger: str
-    p_world: NDArray[np.float64]
-    n_world: NDArray[np.float64]
-    f_world: NDArray[np.float64]
+    p: NDArray[np.float64]
+    n: NDArray[np.float64]
+    f: NDArray[np.float64]
+    frame: str = WORLD
 
-    def in_frame(self, T_world_frame: NDArray[np.float64]) -> Contact:
-        """The same contact expressed in another frame (e.g. the object frame)."""
-        T_frame_world = inv_T(T_world_frame)
+    def __post_init__(self) -> None:
+        if self.frame not in CONTACT_FRAMES:
+            raise GraspframeError(f"contact frame {self.frame!r} is not one of {CONTACT_FRAMES}")
+
+    def in_object_frame(self, T_world_object: NDArray[np.float64]) -> Contact:
+        """This world-frame contact expressed in the object frame at T_world_object."""
+        if self.frame != WORLD:
+            raise GraspframeError(f"the contact is in the {self.frame} frame, not the world frame")
+        T_object_world = inv_T(T_world_object)
         return Contact(
             link=self.link,
             real_finger=self.real_finger,
-            p_world=transform_points(T_frame_world, self.p_world),
-            n_world=rotate_vectors(T_frame_world, self.n_world),
-            f_world=rotate_vectors(T_frame_world, self.f_world),
+            p=transform_points(T_object_world, self.p),
+            n=rotate_vectors(T_object_world, self.n),
+            f=rotate_vectors(T_object_world, self.f),
+            frame=OBJECT,
         )
 
     def to_dict(self) -> dict:
+        """The contact as JSON-ready values; the frame is named by where it is stored."""
         return {
             "link": self.link,
             "real_finger": self.real_finger,
-            "p": [float(v) for v in self.p_world],
-            "n": [float(v) for v in self.n_world],
-            "f": [float(v) for v in self.f_world],
+            "p": [float(v) for v in self.p],
+            "n": [float(v) for v in self.n],
+            "f": [float(v) for v in self.f],
         }
 
 

@@ -99,10 +99,10 @@ CLASSIFY_DONE = EventKind(
         PayloadField("classifier", "name of the classifier"),
         PayloadField("grasp", "the human grasp recognised (a `HumanGrasp` value)"),
         PayloadField("confidence", "[0, 1] the classifier's confidence"),
-        PayloadField("R_cam_hand", "3x3 rotation of the human palm frame in the camera frame"),
-        PayloadField("p_cam_hand", "[m] human palm position in the camera frame, or None"),
+        PayloadField("R_camera_palm", "3x3 rotation of the human palm frame in the camera frame"),
+        PayloadField("p_camera_palm", "[m] human palm position in the camera frame, or None"),
         PayloadField("neighbours", "nearest database views: list of {view_id, grasp, distance}"),
-        PayloadField("T_object_hand", "4x4 pose of the human palm in the object frame"),
+        PayloadField("T_object_palm", "4x4 pose of the human palm in the object frame"),
     ),
 )
 CLASSIFY_IMAGES = EventKind(

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from graspframe.contacts import Contact
 from graspframe.defaults import (
     DEFAULT_ARM,
     DEFAULT_BACKEND,
@@ -53,6 +54,7 @@ from graspframe.scene import Scene, check_on_table, load_scene
 from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
 from graspframe.strategy.arm_path import CheckedPlan, choose_plan, floating_plan
 from graspframe.strategy.executor import ExecutorParams, GraspOutcome, execute_plan
+from graspframe.strategy.held_test import object_probe
 from graspframe.strategy.human_reference import (
     HumanReference,
     human_reference,
@@ -257,31 +259,31 @@ def _human_grasp(request, inputs, registry, recorder, result, progress):
     estimate = classifier.classify(inputs.image)
     grasp = estimate.grasp
     scene = inputs.scene
-    R_object_hand = scene.T_camera_object[:3, :3].T @ estimate.R_cam_hand
+    R_object_palm = scene.T_camera_object[:3, :3].T @ estimate.R_camera_palm
     placement = reference_placement(obj, human.preshape_for(grasp))
-    if estimate.p_cam_hand is not None:
-        p_object_hand = scene.T_camera_object[:3, :3].T @ (
-            np.asarray(estimate.p_cam_hand) - scene.T_camera_object[:3, 3]
+    if estimate.p_camera_palm is not None:
+        p_object_palm = scene.T_camera_object[:3, :3].T @ (
+            np.asarray(estimate.p_camera_palm) - scene.T_camera_object[:3, 3]
         )
     else:  # the object sits where the estimated posture holds it
-        p_object_hand = -R_object_hand @ placement.p_palm_grasp
-    T_object_hand = make_T(R_object_hand, p_object_hand)
+        p_object_palm = -R_object_palm @ placement.p_palm_grasp
+    T_object_palm = make_T(R_object_palm, p_object_palm)
     classification = {
         "classifier": request.classifier,
         "grasp": grasp.value,
         "confidence": estimate.confidence,
-        "R_cam_hand": estimate.R_cam_hand,
-        "p_cam_hand": estimate.p_cam_hand,
+        "R_camera_palm": estimate.R_camera_palm,
+        "p_camera_palm": estimate.p_camera_palm,
         "neighbours": [
             {"view_id": n.view_id, "grasp": n.grasp.value, "distance": n.distance}
             for n in estimate.neighbours
         ],
-        "T_object_hand": T_object_hand,
+        "T_object_palm": T_object_palm,
     }
     result["classification"] = classification
     recorder.emit(CLASSIFY_DONE, **classification)
     recorder.emit(CLASSIFY_IMAGES, image_bgr=inputs.image, mask=_hand_mask(inputs.image))
-    return grasp, T_object_hand, scene.T_world_object
+    return grasp, T_object_palm, scene.T_world_object
 
 
 def _hand_mask(image):
@@ -308,54 +310,82 @@ def _plan(request, inputs, grasp, T_object_human_palm, T_world_object_est) -> Ch
     )
 
 
-def _execute(request, inputs, registry, recorder, result, progress):
-    hand, obj, human = inputs.hand, inputs.obj, inputs.human
+def _execute(request, inputs, registry, recorder, result, progress) -> None:
+    """The run's stages in order: the human grasp, the plan, the execution in a world
+    built for it, its pictures, and the score against the human reference."""
     grasp, T_object_human_palm, T_world_object = _human_grasp(
         request, inputs, registry, recorder, result, progress
     )
     T_world_object_est = T_world_object.copy()
     T_world_object_est[:2, 3] += request.object_error
 
-    progress(f"planning the {hand.name} grasp for a human {grasp.value} ({request.mount} mount)")
+    progress(
+        f"planning the {inputs.hand.name} grasp for a human {grasp.value} ({request.mount} mount)"
+    )
     checked = _plan(request, inputs, grasp, T_object_human_palm, T_world_object_est)
-    plan = checked.plan
-    result["plan"] = {**plan.to_dict(), "variants_refused": list(checked.refused)}
+    result["plan"] = {**checked.plan.to_dict(), "variants_refused": list(checked.refused)}
     recorder.emit(PLAN_DONE, **result["plan"])
 
-    progress("building the world")
     config = WorldConfig(
-        hand=hand,
-        object=obj,
+        hand=inputs.hand,
+        object=inputs.obj,
         robot=checked.robot,
         T_world_arm_base=checked.T_world_base,
         T_world_object=T_world_object,
         table_height=TABLE_HEIGHT,
         seed=request.seed,
     )
+    outcome, snapshots = _execute_in_world(
+        inputs, checked, config, T_world_object_est, recorder, progress
+    )
+    result["outcome"] = _outcome_dict(outcome)
+    result["snapshots"] = _draw_snapshots(
+        recorder.run.out_dir, checked, config, snapshots, outcome, grasp
+    )
+
+    progress("scoring against the human reference")
+    _score_run(inputs, grasp, checked, outcome, recorder, result)
+
+
+def _execute_in_world(
+    inputs: _Inputs,
+    checked: CheckedPlan,
+    config: WorldConfig,
+    T_world_object_est,
+    recorder: _Recorder,
+    progress: Progress,
+) -> tuple[GraspOutcome, list[dict]]:
+    """Build the world, execute the plan in it; (outcome, the snapshot events' data)."""
+    plan = checked.plan
+    progress("building the world")
     snapshots: list[dict] = []
     with inputs.backend_cls().create_world(config) as world:
         recorder.clock = lambda: world.time
         recorder.emit(
             WORLD_BUILT,
-            hand=hand.name,
+            hand=inputs.hand.name,
             arm=checked.robot.arm.name,
             arm_joint_names=checked.robot.arm.joint_names,
-            object=obj.name,
+            object=inputs.obj.name,
             model_path=str(checked.robot.urdf_path),
             T_world_arm_base=config.T_world_arm_base,
-            T_world_object=T_world_object,
+            T_world_object=config.T_world_object,
             T_world_object_est=T_world_object_est,
             table_height=TABLE_HEIGHT,
         )
+
+        arm, probe = world.arm, object_probe(world)
+        if arm is None:
+            raise GraspframeError("the world was built without the arm that moves the hand")
 
         def on_cycle(motion: ArmMotion) -> None:
             T_world_palm = world.hand.T_world_palm()
             recorder.emit(
                 MOTION_CYCLE,
-                q_arm=world.arm.joint_positions(),
+                q_arm=arm.joint_positions(),
                 q_hand=world.hand.joint_positions(),
                 T_world_palm=T_world_palm,
-                T_world_object=world.object.T_world_object(),
+                T_world_object=probe.T_world_object(),
                 # Contacts now; reading the palm sensor would consume its latched touch.
                 palm_touched=any(c.real_finger == PALM for c in world.hand.contacts()),
                 distance_to_goal=float(
@@ -370,31 +400,35 @@ def _execute(request, inputs, registry, recorder, result, progress):
 
         motion = ArmMotion(world, checked.robot, config.T_world_arm_base, on_cycle=on_cycle)
         progress(f"executing the {plan.preshape} preshape ({plan.approach} approach)")
-        outcome = execute_plan(plan, world, motion, hand, obj, ExecutorParams(), emit=emit)
-    result["outcome"] = _outcome_dict(outcome)
-    result["snapshots"] = _draw_snapshots(
-        recorder.run.out_dir, checked, config, snapshots, outcome, grasp
-    )
+        outcome = execute_plan(
+            plan, world, motion, inputs.hand, inputs.obj, ExecutorParams(), emit=emit
+        )
+    return outcome, snapshots
 
-    progress("scoring against the human reference")
+
+def _score_run(inputs, grasp, checked, outcome, recorder, result) -> None:
+    """Score the robot against the human reference (result["score"]), with the human
+    reference's picture beside the robot's."""
+    obj, human = inputs.obj, inputs.human
     reference = inputs.reference_file or human_reference(grasp, obj, human, inputs.backend_cls())
     # A grasp turned about a symmetric object's axis is scored in the turned object frame.
-    T_world_object_scored = outcome.T_world_object_at_hold @ make_T(plan.R_object_symmetry)
-    result["score"] = _score(outcome, T_world_object_scored, reference, hand, human)
+    T_world_object_scored = outcome.T_world_object_at_hold @ make_T(checked.plan.R_object_symmetry)
+    robot_contacts = [c.in_object_frame(T_world_object_scored) for c in outcome.contacts]
+    result["score"] = _score(robot_contacts, reference, inputs.hand, human)
     if reference.picture is not None:
         # The human grasp's picture beside the robot's snapshots.png.
         picture = Path(recorder.run.out_dir) / "human_reference.png"
         shutil.copyfile(reference.picture, picture)
         result["human_reference_picture"] = str(picture)
     result["score"]["quality"] = {
-        "robot": _quality([c.in_frame(T_world_object_scored) for c in outcome.contacts], obj),
+        "robot": _quality(robot_contacts, obj),
         "human": _quality(list(reference.contacts), obj),
     }
     recorder.emit(
         SCORE_DONE,
         score=result["score"],
         human_contacts=list(reference.contacts),
-        robot_contacts_object=[c.in_frame(T_world_object_scored) for c in outcome.contacts],
+        robot_contacts_object=robot_contacts,
     )
 
 
@@ -443,7 +477,7 @@ def _outcome_dict(outcome: GraspOutcome) -> dict:
         "fingers_after_lift": outcome.fingers_after_lift,
         "T_world_object_at_hold": T_world_object,
         "contacts_world": [c.to_dict() for c in outcome.contacts],
-        "contacts_object": [c.in_frame(T_world_object).to_dict() for c in outcome.contacts],
+        "contacts_object": [c.in_object_frame(T_world_object).to_dict() for c in outcome.contacts],
     }
 
 
@@ -455,8 +489,8 @@ def _quality(contacts_object, obj) -> dict | None:
         return None
     try:
         quality = grasp_quality(
-            [c.p_world for c in contacts_object],
-            [-np.asarray(c.n_world) for c in contacts_object],  # contact normals point out
+            [c.p for c in contacts_object],
+            [-np.asarray(c.n) for c in contacts_object],  # contact normals point out
             obj.static_friction,
             torque_length=obj.largest_dimension / 2,
         )
@@ -465,8 +499,13 @@ def _quality(contacts_object, obj) -> dict | None:
     return quality.to_dict()
 
 
-def _score(outcome: GraspOutcome, T_world_object, reference: HumanReference, hand, human) -> dict:
-    """Virtual fingers of robot and human, compared in the object frame T_world_object."""
+def _score(
+    robot_contacts: list[Contact],
+    reference: HumanReference,
+    hand: HandDescription,
+    human: HandDescription,
+) -> dict:
+    """Virtual fingers of robot and human from their object-frame contacts, compared."""
     score: dict = {
         "human_source": reference.source,
         "human_touching_fingers": reference.touching_fingers,
@@ -474,8 +513,8 @@ def _score(outcome: GraspOutcome, T_world_object, reference: HumanReference, han
         "human_held_test": None if reference.held is None else reference.held.to_dict(),
     }
     try:
-        robot_vf = virtual_fingers_from_contacts(outcome.contacts, T_world_object)
-        human_vf = virtual_fingers_from_contacts(list(reference.contacts), np.eye(4))
+        robot_vf = virtual_fingers_from_contacts(robot_contacts)
+        human_vf = virtual_fingers_from_contacts(reference.contacts)
         comparison = compare(
             robot_vf,
             human_vf,
@@ -485,9 +524,8 @@ def _score(outcome: GraspOutcome, T_world_object, reference: HumanReference, han
     except GraspframeError as exc:
         score["error"] = str(exc)
         return score
-    robot_object = [c.in_frame(T_world_object) for c in outcome.contacts]
     score.update(
-        robot=_with_contacts(robot_vf.to_dict(), robot_object),
+        robot=_with_contacts(robot_vf.to_dict(), robot_contacts),
         human=_with_contacts(human_vf.to_dict(), list(reference.contacts)),
         comparison=comparison.to_dict(),
     )

@@ -124,7 +124,7 @@ class Snapshot:
             label=label,
             q_by_joint=q_by_joint,
             T_world_object=T_world_object,
-            contact_points_world=np.array([c.p_world for c in contacts]).reshape(-1, 3),
+            contact_points_world=np.array([c.p for c in contacts]).reshape(-1, 3),
             contact_fingers=[c.real_finger for c in contacts],
         )
 

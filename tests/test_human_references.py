@@ -65,7 +65,7 @@ def test_human_reference_holds_and_touches_as_the_taxonomy_says(grasp, size):
     assert reference.held.under_disturbance is True
     assert contact_problems(grasp, reference.contacts) == []
     for contact in reference.contacts:  # in the object frame: on the object's surface
-        assert np.linalg.norm(contact.p_world) < obj.largest_dimension
+        assert np.linalg.norm(contact.p) < obj.largest_dimension
 
 
 def _contact(link: str, finger: str):
@@ -112,7 +112,9 @@ def test_the_held_verdict_is_cached_with_the_contacts(tmp_path, monkeypatch):
 
     def fake_simulation(grasp, obj, human, backend, picture=None):
         calls.append(grasp)
-        c = Contact("hh_thumb_distal", "thumb", np.zeros(3), np.array([1.0, 0, 0]), np.zeros(3))
+        c = Contact(
+            "hh_thumb_distal", "thumb", np.zeros(3), np.array([1.0, 0, 0]), np.zeros(3), "object"
+        )
         return HumanReference(grasp, obj.name, (c,), "simulated", verdict)
 
     monkeypatch.setattr(human_reference, "simulate_human_grasp", fake_simulation)

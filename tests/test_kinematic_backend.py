@@ -180,7 +180,7 @@ def test_fingers_stop_on_the_object_and_the_barrett_clutch_breaks_away():
     contacts = world.hand.contacts()
     assert {c.real_finger for c in contacts} >= {"finger_1", "finger_2", "finger_3"}
     # Fingers stop at the surface: the deepest is within the touch distance.
-    depth = max(np.linalg.norm(c.f_world) for c in contacts)
+    depth = max(np.linalg.norm(c.f) for c in contacts)
     assert depth < 1.0 + 1000.0 * CONTACT_DISTANCE
     assert world.object.T_world_object() == pytest.approx(config.T_world_object)
 
@@ -188,7 +188,7 @@ def test_fingers_stop_on_the_object_and_the_barrett_clutch_breaks_away():
 def test_the_kinematic_world_is_deterministic():
     def final_state():
         outcome, _, _ = _run("barrett", G.POWER_SPHERE)
-        return outcome.T_world_object_at_hold, [c.p_world for c in outcome.contacts]
+        return outcome.T_world_object_at_hold, [c.p for c in outcome.contacts]
 
     (T_first, points_first), (T_second, points_second) = final_state(), final_state()
     assert np.array_equal(T_first, T_second)

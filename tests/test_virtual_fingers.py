@@ -242,9 +242,9 @@ def test_contacts_become_virtual_fingers_in_the_object_frame():
         Contact(
             link=f"{owner}_tip",
             real_finger=owner,
-            p_world=transform_points(T_world_object, p),
-            n_world=T_world_object[:3, :3] @ n,
-            f_world=T_world_object[:3, :3] @ (-2.0 * n),
+            p=transform_points(T_world_object, p),
+            n=T_world_object[:3, :3] @ n,
+            f=T_world_object[:3, :3] @ (-2.0 * n),
         )
         for owner, p, n in zip(owners, p_object, n_object, strict=True)
     ]
@@ -259,6 +259,21 @@ def test_contacts_become_virtual_fingers_in_the_object_frame():
     np.testing.assert_allclose(thumb_vf.normal, -X, atol=1e-12)
     assert grasp.c_eff == pytest.approx(math.sqrt(0.5), abs=TOL)
     json.dumps(grasp.to_dict())
+    # The same contacts given in the object frame need no object pose and give the same.
+    in_object = [c.in_object_frame(T_world_object) for c in contacts]
+    assert all(c.frame == "object" for c in in_object)
+    same = virtual_fingers_from_contacts(in_object)
+    np.testing.assert_allclose(same.virtual_fingers[0].position, fingers_vf.position, atol=1e-12)
+
+
+def test_contact_frames_are_checked():
+    world = Contact("tip", "index", np.zeros(3), X, -X)
+    with pytest.raises(GraspframeError, match="need T_world_object"):
+        group_by_real_finger([world])
+    with pytest.raises(GraspframeError, match="not the world frame"):
+        world.in_object_frame(np.eye(4)).in_object_frame(np.eye(4))
+    with pytest.raises(GraspframeError, match=r"'camera' is not one of \('world', 'object'\)"):
+        Contact("tip", "index", np.zeros(3), X, -X, frame="camera")
 
 
 def test_real_fingers_without_force_are_ignored_and_reported():

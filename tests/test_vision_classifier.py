@@ -62,7 +62,7 @@ def test_held_out_renders(classifier):
             continue
         assert not estimate_problems(estimate)
         correct += estimate.grasp == view.grasp
-        errors.append(angle_deg(estimate.R_cam_hand, view.T_cam_palm[:3, :3]))
+        errors.append(angle_deg(estimate.R_camera_palm, view.T_camera_palm[:3, :3]))
     assert len(errors) + uncertain >= 0.9 * len(views)  # a hand found in nearly every view
     accuracy = correct / (len(errors) + uncertain)
     assert accuracy >= MIN_ACCURACY, f"accuracy {accuracy:.2f}"
@@ -89,9 +89,9 @@ def test_known_view_in_new_light_and_background(classifier, database):
     view = render_view(renderer, hand, params, SIZE)
     estimate = classifier.classify(view.image)
     assert estimate.grasp == HumanGrasp.POWER_SPHERE
-    assert angle_deg(estimate.R_cam_hand, view.T_cam_palm[:3, :3]) < 20.0
+    assert angle_deg(estimate.R_camera_palm, view.T_camera_palm[:3, :3]) < 20.0
     assert estimate.neighbours[0].distance <= estimate.neighbours[-1].distance
-    p = estimate.p_cam_hand
+    p = estimate.p_camera_palm
     assert p is not None and p[2] > 0
 
 

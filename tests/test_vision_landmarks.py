@@ -36,9 +36,9 @@ def _rotation_angle_deg(R_a, R_b) -> float:
 
 def _camera_view(points_wrist, seed: int):
     """The points seen from a random camera: rotated, scaled to millimetres, shifted."""
-    R_cam_wrist = Rotation.random(random_state=seed).as_matrix()
+    R_camera_wrist = Rotation.random(random_state=seed).as_matrix()
     shift = np.random.default_rng(seed).normal(size=3)
-    return 1000.0 * points_wrist @ R_cam_wrist.T + shift, R_cam_wrist
+    return 1000.0 * points_wrist @ R_camera_wrist.T + shift, R_camera_wrist
 
 
 def test_a_straight_hand_has_no_flexion(kinematics):
@@ -70,8 +70,8 @@ def test_pip_flexion_is_the_model_joint_angle(kinematics):
 @pytest.mark.parametrize("closure", [0.0, 0.33, 0.5, 0.77, 1.0])
 def test_model_postures_classify_as_their_grasp(kinematics, grasp, closure):
     points = kinematics.points(kinematics.posture(grasp, closure))
-    points_cam, _ = _camera_view(points, seed=int(100 * closure))
-    estimate = estimate_from_landmarks(points_cam, left=False, table=posture_table())
+    points_camera, _ = _camera_view(points, seed=int(100 * closure))
+    estimate = estimate_from_landmarks(points_camera, left=False, table=posture_table())
     assert estimate.grasp is grasp
     assert 0.5 < estimate.confidence <= 1.0
 
@@ -80,16 +80,16 @@ def test_palm_frame_follows_the_model_palm(kinematics):
     points = kinematics.points(kinematics.posture(GRASP_ORDER[0], 0.0))
     R_wrist_palm = posture_table().R_wrist_palm
     assert _rotation_angle_deg(palm_frame(points), R_wrist_palm) < FRAME_TOL_DEG
-    points_cam, R_cam_wrist = _camera_view(points, seed=7)
-    R_cam_hand = estimate_from_landmarks(points_cam, False, posture_table()).R_cam_hand
-    assert _rotation_angle_deg(R_cam_hand, R_cam_wrist @ R_wrist_palm) < FRAME_TOL_DEG
+    points_camera, R_camera_wrist = _camera_view(points, seed=7)
+    R_camera_palm = estimate_from_landmarks(points_camera, False, posture_table()).R_camera_palm
+    assert _rotation_angle_deg(R_camera_palm, R_camera_wrist @ R_wrist_palm) < FRAME_TOL_DEG
 
 
 def test_a_left_hand_is_mirrored_back(kinematics):
     points = kinematics.points(kinematics.posture(GRASP_ORDER[3], 0.5))
-    points_cam, _ = _camera_view(points, seed=11)
-    R_right = palm_frame(points_cam)
-    R_left = palm_frame(points_cam @ MIRROR_X, left=True)  # the mirror image of this hand
+    points_camera, _ = _camera_view(points, seed=11)
+    R_right = palm_frame(points_camera)
+    R_left = palm_frame(points_camera @ MIRROR_X, left=True)  # the mirror image of this hand
     # Its fingertip axis and palm normal are this hand's, reflected.
     np.testing.assert_allclose(R_left[:, 0], MIRROR_X @ R_right[:, 0], atol=1e-12)
     np.testing.assert_allclose(R_left[:, 2], MIRROR_X @ R_right[:, 2], atol=1e-12)
@@ -141,5 +141,7 @@ def test_a_real_photo_is_classified(fresh_detector):
 
     estimate = LandmarkClassifier().classify(read_image(REAL_PHOTOS / "rp_002.jpg"))
     assert estimate.grasp in GRASP_ORDER
-    np.testing.assert_allclose(estimate.R_cam_hand @ estimate.R_cam_hand.T, np.eye(3), atol=1e-9)
-    assert np.linalg.det(estimate.R_cam_hand) == pytest.approx(1.0)
+    np.testing.assert_allclose(
+        estimate.R_camera_palm @ estimate.R_camera_palm.T, np.eye(3), atol=1e-9
+    )
+    assert np.linalg.det(estimate.R_camera_palm) == pytest.approx(1.0)

@@ -61,19 +61,19 @@ def test_demo_scene_format(demo):
     assert scene["object"] == "large_cylinder"
     for key in ("T_world_camera", "T_camera_object"):
         assert np.asarray(scene[key]).shape == (4, 4)
-    assert np.asarray(scene["truth"]["T_camera_hand"]).shape == (4, 4)
+    assert np.asarray(scene["truth"]["T_camera_palm"]).shape == (4, 4)
     assert image.shape[2] == 3
 
 
 def test_demo_image_is_classified_correctly(demo):
     image, scene = demo
     estimate = HogKnnClassifier().classify(image)
-    truth = np.asarray(scene["truth"]["T_camera_hand"])
-    error = angle_deg(estimate.R_cam_hand, truth[:3, :3])
+    truth = np.asarray(scene["truth"]["T_camera_palm"])
+    error = angle_deg(estimate.R_camera_palm, truth[:3, :3])
     print(f"demo: {estimate.grasp.value} ({estimate.confidence:.2f}), error {error:.1f} deg")
     assert estimate.grasp.value == scene["truth"]["grasp"]
     assert error < DEMO_MAX_ERROR_DEG
-    assert np.linalg.norm(estimate.p_cam_hand - truth[:3, 3]) < 0.05  # [m]
+    assert np.linalg.norm(estimate.p_camera_palm - truth[:3, 3]) < 0.05  # [m]
 
 
 def test_classify_command_prints_json(capsys):

@@ -15,11 +15,11 @@ from graspframe.grasps import HumanGrasp
 @dataclass(frozen=True)
 class Neighbour:
     """One database view used for an estimate: its label, its hand-vs-camera rotation
-    R_cam_hand, and its descriptor distance to the query [-]."""
+    R_camera_palm, and its descriptor distance to the query [-]."""
 
     view_id: int
     grasp: HumanGrasp
-    R_cam_hand: NDArray[np.float64]
+    R_camera_palm: NDArray[np.float64]
     distance: float
 
 
@@ -28,15 +28,15 @@ class HumanGraspEstimate:
     """What a classifier says about one image.
 
     grasp: the estimated human grasp; confidence: its vote share in [0, 1].
-    R_cam_hand: rotation of the human palm frame in the camera frame.
-    p_cam_hand: palm position in the camera frame [m], None when not estimated.
+    R_camera_palm: rotation of the human palm frame in the camera frame.
+    p_camera_palm: palm position in the camera frame [m], None when not estimated.
     neighbours: the database views behind the estimate, nearest first.
     """
 
     grasp: HumanGrasp
     confidence: float
-    R_cam_hand: NDArray[np.float64]
-    p_cam_hand: NDArray[np.float64] | None
+    R_camera_palm: NDArray[np.float64]
+    p_camera_palm: NDArray[np.float64] | None
     neighbours: tuple[Neighbour, ...] = ()
 
 

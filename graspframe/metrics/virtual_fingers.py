@@ -35,7 +35,7 @@ from more_itertools import set_partitions
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linear_sum_assignment
 
-from graspframe.contacts import Contact
+from graspframe.contacts import WORLD, Contact
 from graspframe.errors import GraspframeError
 from graspframe.transforms import as_pose
 
@@ -149,26 +149,31 @@ class RealFingerContacts:
 
 
 def group_by_real_finger(
-    contacts: Iterable[Contact], T_world_frame: ArrayLike
+    contacts: Iterable[Contact], T_world_object: ArrayLike | None = None
 ) -> tuple[RealFingerContacts, ...]:
-    """Contacts grouped by `Contact.real_finger`, expressed in `frame` (sorted by name).
+    """Contacts grouped by `Contact.real_finger`, in the object frame (sorted by name).
 
-    contacts: world-frame contacts (see `graspframe.contacts.Contact`).
-    T_world_frame: 4x4 pose of the common frame in the world (T_world_object) [m].
+    contacts: contacts in the world or the object frame (`Contact.frame`).
+    T_world_object: 4x4 pose of the object frame in the world [m]; needed when a contact
+    is in the world frame.
     Returns an empty tuple when there are no contacts.
     """
-    T_world_frame = as_pose(T_world_frame, "T_world_frame")
+    T = None if T_world_object is None else as_pose(T_world_object, "T_world_object")
     rows: dict[str, list[Contact]] = {}
     for contact in contacts:
         if not isinstance(contact, Contact):
             raise GraspframeError(f"expected graspframe.contacts.Contact, got {type(contact)}")
-        rows.setdefault(contact.real_finger, []).append(contact.in_frame(T_world_frame))
+        if contact.frame == WORLD:
+            if T is None:
+                raise GraspframeError("world-frame contacts need T_world_object")
+            contact = contact.in_object_frame(T)
+        rows.setdefault(contact.real_finger, []).append(contact)
     return tuple(
         RealFingerContacts(
             name=name,
-            positions=np.array([c.p_world for c in group]),
-            normals=np.array([c.n_world for c in group]),
-            forces=np.array([c.f_world for c in group]),
+            positions=np.array([c.p for c in group]),
+            normals=np.array([c.n for c in group]),
+            forces=np.array([c.f for c in group]),
         )
         for name, group in sorted(rows.items())
     )
@@ -443,12 +448,13 @@ def virtual_fingers_from_real_fingers(
 
 
 def virtual_fingers_from_contacts(
-    contacts: Iterable[Contact], T_world_object: ArrayLike, *, min_force: float = 0.0
+    contacts: Iterable[Contact], T_world_object: ArrayLike | None = None, *, min_force: float = 0.0
 ) -> VirtualFingerGrasp:
     """The best virtual-finger representation of a grasp, in the object frame.
 
-    contacts: world-frame contacts of one hand on the object.
-    T_world_object: 4x4 pose of the object frame in the world [m].
+    contacts: contacts of one hand on the object, in the world or the object frame.
+    T_world_object: 4x4 pose of the object frame in the world [m]; needed for world-frame
+    contacts.
     min_force: [N] see `virtual_fingers_from_real_fingers`.
     Raises NoContactsError when there are no contacts.
     """

@@ -292,7 +292,7 @@ class _Execution:
                 events.EXECUTE_FIRST_CONTACT,
                 link=contact.link,
                 real_finger=contact.real_finger,
-                p_world=contact.p_world,
+                p_world=contact.p,
                 on_palm=result.palm_touched,
             )
             centring = self._centring_shift() if result.palm_touched else None
@@ -310,7 +310,7 @@ class _Execution:
             )
             p_goal_old = T_goal[:3, 3].copy()
             if centring is None:
-                p_goal_new = p_goal_old + self._towards_contact(T_goal, contact.p_world, alpha)
+                p_goal_new = p_goal_old + self._towards_contact(T_goal, contact.p, alpha)
                 alpha = alpha**2
             else:
                 p_goal_new = p_goal_old + centring
@@ -325,7 +325,7 @@ class _Execution:
                 index=corrections,
                 reason="finger first" if centring is None else "palm off centre",
                 alpha=alpha if centring is None else None,
-                p_contact=contact.p_world,
+                p_contact=contact.p,
                 goal_before=p_goal_old,
                 goal_after=T_goal[:3, 3].copy(),
             )
@@ -439,7 +439,7 @@ class _Execution:
         T_world_palm = self.world.hand.T_world_palm()
         T_palm_world = inv_T(T_world_palm)
         p_palm_contacts = np.mean(
-            [T_palm_world[:3, :3] @ c.p_world + T_palm_world[:3, 3] for c in palm_contacts], axis=0
+            [T_palm_world[:3, :3] @ c.p + T_palm_world[:3, 3] for c in palm_contacts], axis=0
         )
         offset_palm = np.array([*(p_palm_contacts[:2] - self.plan.p_palm_object[:2]), 0.0])
         if self.obj.shape == "cylinder":

@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from graspframe.contacts import Contact
+from graspframe.contacts import OBJECT, Contact
 from graspframe.errors import InputError
 from graspframe.floating_base import mount_floating
 from graspframe.grasps import HumanGrasp
@@ -124,7 +124,7 @@ def _reference_from_json(data, path: Path) -> HumanReference:
             raise InputError(f"{path}: contact {index}: p, n, f must be 3 finite numbers each")
         if abs(np.linalg.norm(n) - 1.0) > 1e-3:
             raise InputError(f"{path}: contact {index}: n must be a unit vector")
-        contacts.append(Contact(str(item.get("link", finger)), finger, p, n, f))
+        contacts.append(Contact(str(item.get("link", finger)), finger, p, n, f, frame=OBJECT))
     if not contacts:
         raise InputError(f"{path}: no contacts")
     return HumanReference(grasp, str(data.get("object", "")), tuple(contacts), str(path))
@@ -188,7 +188,7 @@ def simulate_human_grasp(
         moments.append(_snapshot("hold", world, hold_contacts))
         held = held_test.run(world, motion, obj)
         moments.append(_snapshot("after lift and pushes", world, world.hand.contacts()))
-    contacts = tuple(c.in_frame(T_world_object_at_hold) for c in hold_contacts)
+    contacts = tuple(c.in_object_frame(T_world_object_at_hold) for c in hold_contacts)
     reference = HumanReference(grasp, obj.name, contacts, "simulated", held, picture)
     if picture is not None:
         _draw(picture, reference, held, robot, config, moments)

@@ -273,9 +273,9 @@ def estimate_problems(estimate: HumanGraspEstimate) -> list[str]:
         problems.append(f"grasp {estimate.grasp!r} is not a HumanGrasp")
     if not 0.0 <= estimate.confidence <= 1.0:
         problems.append(f"confidence {estimate.confidence} is outside [0, 1]")
-    R = np.asarray(estimate.R_cam_hand, dtype=float)
+    R = np.asarray(estimate.R_camera_palm, dtype=float)
     if R.shape != (3, 3) or not np.allclose(R.T @ R, np.eye(3), atol=1e-6):
-        problems.append("R_cam_hand is not a 3x3 rotation matrix")
+        problems.append("R_camera_palm is not a 3x3 rotation matrix")
     return problems
 
 

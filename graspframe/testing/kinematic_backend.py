@@ -171,7 +171,7 @@ class KinematicHandDriver(HandDriver):
     def palm_sensor(self) -> PalmSensorReading:
         """The contacts now (a kinematic touch lasts until the hand moves away)."""
         contacts = self.contacts()
-        strongest = max(contacts, key=lambda c: np.linalg.norm(c.f_world), default=None)
+        strongest = max(contacts, key=lambda c: np.linalg.norm(c.f), default=None)
         on_palm = any(c.real_finger == PALM for c in contacts)
         return PalmSensorReading(touched=bool(contacts), on_palm=on_palm, first_contact=strongest)
 

@@ -5,7 +5,7 @@ it, HOG, PCA, k nearest database views, distance-weighted class vote (weights
 1 / distance), orientation = weighted rotation average of the neighbours of the winning
 class, palm position from the crop's size and position under an assumed camera.
 
-Camera frame: OpenCV axes, x right, y down, z forward. R_cam_hand is the rotation of
+Camera frame: OpenCV axes, x right, y down, z forward. R_camera_palm is the rotation of
 the human palm frame (+x to the fingertips, +z out of the palm) in that frame.
 """
 
@@ -32,7 +32,7 @@ from graspframe.vision.views import GRASPS
 DEFAULT_K = 8
 MAX_SIDE = 4096  # [px] larger images are refused
 MIN_SIDE = 32  # [px] smaller images are refused
-DEFAULT_FOV_X_DEG = 60.0  # [deg] assumed horizontal field of view for p_cam_hand
+DEFAULT_FOV_X_DEG = 60.0  # [deg] assumed horizontal field of view for p_camera_palm
 # [-] smallest share of the neighbours' weighted vote the winning grasp needs; below it
 # the neighbours disagree and the image is refused (measured in docs/vision.md: on
 # held-out renders it refuses 2 % of views, nearly all of them wrongly classified).
@@ -42,13 +42,13 @@ MIRROR_X = np.diag([-1.0, 1.0, 1.0])
 FLIP_Y = np.diag([1.0, -1.0, 1.0])
 
 
-def unmirror(R_cam_palm_mirrored: NDArray[np.float64]) -> NDArray[np.float64]:
+def unmirror(R_camera_palm_mirrored: NDArray[np.float64]) -> NDArray[np.float64]:
     """The palm frame of a left hand from the right-hand frame estimated in the mirrored
     image: its fingertip axis x and palm normal z are the mirrored estimate's, reflected
     back (S x, S z, with S = MIRROR_X), and y = z x x keeps it a right-handed rotation
     (= -S y: a left hand's thumb is on its palm frame's +y side):
     R = S R_mirrored diag(1, -1, 1)."""
-    return MIRROR_X @ R_cam_palm_mirrored @ FLIP_Y
+    return MIRROR_X @ R_camera_palm_mirrored @ FLIP_Y
 
 
 class UncertainGraspError(GraspframeError):
@@ -96,7 +96,7 @@ class HogKnnClassifier(Classifier):
     database_path: a .npz view database (default: the one shipped with the package),
     loaded on first use; k: neighbours; index_kind: "hnsw" or "flat" (exact);
     fov_x_deg: assumed horizontal field of view of the camera [deg], used only for
-    p_cam_hand; min_confidence: the winning grasp's smallest share of the weighted vote
+    p_camera_palm; min_confidence: the winning grasp's smallest share of the weighted vote
     (0..1) below which the image is refused with UncertainGraspError (0 never refuses).
     """
 
@@ -176,9 +176,9 @@ class HogKnnClassifier(Classifier):
             )
         same = labels == winner
         rotations = np.array([R_from_quat_xyzw(q) for q in db.quat_xyzw[ids]])
-        R_cam_hand = average_rotations(rotations[same], weights[same])
+        R_camera_palm = average_rotations(rotations[same], weights[same])
         if crop.mirrored:  # the crop was flipped left-right: flip the answer back
-            R_cam_hand = unmirror(R_cam_hand)
+            R_camera_palm = unmirror(R_camera_palm)
         neighbours = tuple(
             Neighbour(int(db.view_ids[i]), GRASPS[int(db.labels[i])], R, float(d))
             for i, R, d in zip(ids, rotations, distances, strict=True)
@@ -186,8 +186,8 @@ class HogKnnClassifier(Classifier):
         return HumanGraspEstimate(
             grasp=GRASPS[winner],
             confidence=confidence,
-            R_cam_hand=R_cam_hand,
-            p_cam_hand=self._palm_position(db, ids[same], weights[same], crop, shape),
+            R_camera_palm=R_camera_palm,
+            p_camera_palm=self._palm_position(db, ids[same], weights[same], crop, shape),
             neighbours=neighbours,
         )
 

@@ -45,23 +45,23 @@ def read_image(path: Path) -> np.ndarray:
 
 def estimate_as_dict(estimate) -> dict:
     """JSON-ready form of a HumanGraspEstimate (angles [deg], position [m])."""
-    roll, pitch, yaw = np.degrees(rpy_from_R(estimate.R_cam_hand))
+    roll, pitch, yaw = np.degrees(rpy_from_R(estimate.R_camera_palm))
     return {
         "grasp": estimate.grasp.value,
         "confidence": round(estimate.confidence, 4),
-        "R_cam_hand": np.round(estimate.R_cam_hand, 6).tolist(),
+        "R_camera_palm": np.round(estimate.R_camera_palm, 6).tolist(),
         "euler_deg": {"roll": round(roll, 2), "pitch": round(pitch, 2), "yaw": round(yaw, 2)},
         "euler_convention": EULER_CONVENTION,
         "camera_frame": "OpenCV: x right, y down, z forward",
-        "p_cam_hand_m": None
-        if estimate.p_cam_hand is None
-        else np.round(estimate.p_cam_hand, 4).tolist(),
+        "p_camera_palm_m": None
+        if estimate.p_camera_palm is None
+        else np.round(estimate.p_camera_palm, 4).tolist(),
         "neighbours": [
             {
                 "view_id": n.view_id,
                 "grasp": n.grasp.value,
                 "distance": round(n.distance, 4),
-                "euler_deg": np.round(np.degrees(rpy_from_R(n.R_cam_hand)), 2).tolist(),
+                "euler_deg": np.round(np.degrees(rpy_from_R(n.R_camera_palm)), 2).tolist(),
             }
             for n in estimate.neighbours
         ],
@@ -101,15 +101,15 @@ def classify_command(
     console.print(f"grasp: [bold]{result['grasp']}[/bold]  confidence {result['confidence']:.2f}")
     e = result["euler_deg"]
     console.print(
-        f"hand orientation R_cam_hand (camera frame {result['camera_frame']}):\n"
-        + "\n".join("  " + "  ".join(f"{v:+.3f}" for v in row) for row in result["R_cam_hand"])
+        f"hand orientation R_camera_palm (camera frame {result['camera_frame']}):\n"
+        + "\n".join("  " + "  ".join(f"{v:+.3f}" for v in row) for row in result["R_camera_palm"])
     )
     console.print(
         f"Euler \\[deg]: roll {e['roll']:+.1f}, pitch {e['pitch']:+.1f}, yaw {e['yaw']:+.1f}"
         f"  ({EULER_CONVENTION})"
     )
-    if result["p_cam_hand_m"] is not None:
-        p = result["p_cam_hand_m"]
+    if result["p_camera_palm_m"] is not None:
+        p = result["p_camera_palm_m"]
         console.print(
             f"palm position \\[m] (assumes a 60 deg horizontal field of view): "
             f"{p[0]:+.3f} {p[1]:+.3f} {p[2]:+.3f}"

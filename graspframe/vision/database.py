@@ -3,7 +3,7 @@
 Each view i of a build draws its parameters from `numpy.random.default_rng([seed, i])`
 and shows grasp GRASPS[i % 6], so a build is the same for a seed whatever the number of
 worker processes. Stored per view: the PCA-reduced HOG descriptor (float16), the class
-label, the exact R_cam_palm (quat_xyzw), and two numbers for the palm position: the
+label, the exact R_camera_palm (quat_xyzw), and two numbers for the palm position: the
 crop side at the palm's depth [m] and the palm's image offset from the crop centre
 (share of the crop side).
 
@@ -45,7 +45,7 @@ DATABASE_NAME = "views"
 @dataclass
 class ViewDatabase:
     """Arrays of N views: descriptors (N, D) PCA space, labels (N,) index into GRASPS,
-    quat_xyzw (N, 4) R_cam_palm, crop_extent_m (N,), palm_offset (N, 2), view_ids (N,),
+    quat_xyzw (N, 4) R_camera_palm, crop_extent_m (N,), palm_offset (N, 2), view_ids (N,),
     the PCA and the metadata."""
 
     descriptors: NDArray[np.float32]
@@ -172,13 +172,13 @@ def describe_view(view: RenderedView, view_id: int) -> DescribedView:
     crop = segment_hand(view.image)
     u0, v0, side = crop.box
     cam = view.camera
-    p = view.T_cam_palm[:3, 3]
+    p = view.T_camera_palm[:3, 3]
     u_palm, v_palm = cam.fx * p[0] / p[2] + cam.cx, cam.fy * p[1] / p[2] + cam.cy
     return DescribedView(
         view_id=view_id,
         label=GRASPS.index(view.grasp),
         hog=hog_descriptor(crop.patch),
-        quat_xyzw=quat_xyzw_from_R(view.T_cam_palm[:3, :3]),
+        quat_xyzw=quat_xyzw_from_R(view.T_camera_palm[:3, :3]),
         crop_extent_m=float(side * p[2] / cam.fx),
         palm_offset=((u_palm - u0) / side - 0.5, (v_palm - v0) / side - 0.5),
     )
@@ -262,7 +262,7 @@ def build_database(
         "views_without_hand": total - len(kept),
         "build_seconds": round(seconds, 2),
         "views_per_second": round(total / seconds, 1),
-        "camera": "OpenCV axes: x right, y down, z forward; labels are R_cam_palm",
+        "camera": "OpenCV axes: x right, y down, z forward; labels are R_camera_palm",
     }
     return ViewDatabase(
         descriptors=pca.project(hogs),

@@ -63,21 +63,21 @@ def render_demo(seed: int = 7, renderer: Renderer | None = None):
     rng = np.random.default_rng(seed)
     scene = demo_scene()
     obj = scene["object"]
-    T_cam_world = inv_T(scene["T_world_camera"])
+    T_camera_world = inv_T(scene["T_world_camera"])
     hand = HandModel()
     hand_mesh = hand.mesh(hand.posture_q(GRASP, CLOSURE))
     table = primitive("box", (1.2, 1.0, 0.02)).transformed(make_T(p=[0.5, 0.1, -0.01]))
     parts = [
-        (hand_mesh.transformed(T_cam_world @ scene["T_world_palm"]), SKIN_TONES[2]),
-        (object_mesh(obj).transformed(T_cam_world @ scene["T_world_object"]), OBJECT_COLOUR),
-        (table.transformed(T_cam_world), TABLE_COLOUR),
+        (hand_mesh.transformed(T_camera_world @ scene["T_world_palm"]), SKIN_TONES[2]),
+        (object_mesh(obj).transformed(T_camera_world @ scene["T_world_object"]), OBJECT_COLOUR),
+        (table.transformed(T_camera_world), TABLE_COLOUR),
     ]
     positions = np.concatenate([m.positions for m, _ in parts])
     normals = np.concatenate([m.normals for m, _ in parts])
     albedo = np.concatenate([np.tile(c, (len(m.positions), 1)) for m, c in parts])
     light_world = np.array([0.3, -0.4, 1.0])
     lighting = Lighting(
-        light_dir=tuple(T_cam_world[:3, :3] @ (light_world / np.linalg.norm(light_world))),
+        light_dir=tuple(T_camera_world[:3, :3] @ (light_world / np.linalg.norm(light_world))),
         ambient=0.5,
         specular=0.06,
     )
@@ -89,14 +89,14 @@ def render_demo(seed: int = 7, renderer: Renderer | None = None):
     image = composite(fg, alpha, background(rng, "blobs", WIDTH, HEIGHT))
     noisy = image.astype(np.float32) + rng.normal(0, 2.0, image.shape)
     image = np.clip(noisy + 0.5, 0, 255).astype(np.uint8)
-    T_camera_object = T_cam_world @ scene["T_world_object"]
-    T_camera_hand = T_cam_world @ scene["T_world_palm"]
+    T_camera_object = T_camera_world @ scene["T_world_object"]
+    T_camera_palm = T_camera_world @ scene["T_world_palm"]
     record = {
         "format": SCENE_FORMAT,
         "object": obj.name,
         "T_world_camera": np.round(scene["T_world_camera"], 9).tolist(),
         "T_camera_object": np.round(T_camera_object, 9).tolist(),
-        "truth": {"grasp": GRASP.value, "T_camera_hand": np.round(T_camera_hand, 9).tolist()},
+        "truth": {"grasp": GRASP.value, "T_camera_palm": np.round(T_camera_palm, 9).tolist()},
         "camera": {
             "width": WIDTH,
             "height": HEIGHT,

@@ -8,7 +8,7 @@ lighting, with a random skin tone, object colour and background.
 Orientation model: the object stands roughly upright in a world with z up (tilted by up
 to `tilt_deg` about a random horizontal axis); the camera looks at it from an elevation
 (positive = from above, looking down) and any azimuth, with a small roll about its
-optical axis. The label is R_cam_palm, the human palm frame in the camera frame
+optical axis. The label is R_camera_palm, the human palm frame in the camera frame
 (OpenCV camera axes: x right, y down, z forward).
 """
 
@@ -94,7 +94,7 @@ class ViewParams:
     """Everything that determines one rendered view (see ViewDistribution)."""
 
     grasp: HumanGrasp
-    R_cam_palm: NDArray[np.float64]
+    R_camera_palm: NDArray[np.float64]
     hand_scale: float
     q: dict[str, float]
     skin_rgb: NDArray[np.float64]
@@ -108,11 +108,11 @@ class ViewParams:
 
 @dataclass(frozen=True)
 class RenderedView:
-    """A rendered image with its exact labels: T_cam_palm (4x4, [m]) and the camera."""
+    """A rendered image with its exact labels: T_camera_palm (4x4, [m]) and the camera."""
 
     image: NDArray[np.uint8]
     grasp: HumanGrasp
-    T_cam_palm: NDArray[np.float64]
+    T_camera_palm: NDArray[np.float64]
     camera: Camera
 
 
@@ -151,7 +151,7 @@ def sample_view(
     tilt_axis = rng.uniform(0, 2 * np.pi)
     R_world_obj = R_from_axis_angle([np.cos(tilt_axis), np.sin(tilt_axis), 0.0], tilt)
     R_world_palm = R_world_obj @ R_palm_obj.T
-    R_world_cam = R_world_camera_looking(
+    R_world_camera = R_world_camera_looking(
         np.radians(rng.uniform(*dist.elevation_deg)),
         rng.uniform(-np.pi, np.pi),
         np.radians(rng.uniform(-dist.roll_deg, dist.roll_deg)),
@@ -173,7 +173,7 @@ def sample_view(
     )
     return ViewParams(
         grasp=grasp,
-        R_cam_palm=R_world_cam.T @ R_world_palm,
+        R_camera_palm=R_world_camera.T @ R_world_palm,
         hand_scale=float(rng.uniform(*dist.hand_scale)),
         q=q,
         skin_rgb=skin,
@@ -259,10 +259,10 @@ def render_view(renderer: Renderer, hand: HandModel, params: ViewParams, size: i
     half_angle = np.radians(dist.fov_x_deg) / 2
     depth = radius / (np.tan(half_angle) * params.fill)
     lateral = params.offset * depth * np.tan(half_angle)
-    p_cam_centre = np.array([lateral[0], lateral[1], depth])
-    R = params.R_cam_palm
-    p_cam_palm = p_cam_centre - R @ centre
-    positions = (mesh.positions @ R.T + p_cam_palm).astype(np.float32)
+    p_camera_centre = np.array([lateral[0], lateral[1], depth])
+    R = params.R_camera_palm
+    p_camera_palm = p_camera_centre - R @ centre
+    positions = (mesh.positions @ R.T + p_camera_palm).astype(np.float32)
     normals = (mesh.normals @ R.T).astype(np.float32)
     fg, alpha = renderer.render(camera, positions, normals, albedo, params.lighting)
     rng = np.random.default_rng(params.background_seed)
@@ -271,5 +271,5 @@ def render_view(renderer: Renderer, hand: HandModel, params: ViewParams, size: i
     noisy = image.astype(np.float32) + rng.normal(0, dist.image_noise, image.shape)
     image = np.clip(noisy + 0.5, 0, 255).astype(np.uint8)
     T = np.eye(4)
-    T[:3, :3], T[:3, 3] = R, p_cam_palm
-    return RenderedView(image=image, grasp=params.grasp, T_cam_palm=T, camera=camera)
+    T[:3, :3], T[:3, 3] = R, p_camera_palm
+    return RenderedView(image=image, grasp=params.grasp, T_camera_palm=T, camera=camera)

@@ -4,8 +4,8 @@ over the human hand model's grasp postures.
 classify(image): check the image, detect the hand (graspframe.vision.hands, needs the
 `hands` extra), take its 3-D world landmarks [m] (camera axes: x right, y down, z
 forward), compute the 19 joint angles (features.py), find the k nearest sampled model
-postures (postures.py) and vote by 1 / distance; R_cam_hand is the palm frame of the
-landmarks (features.palm_frame). p_cam_hand is not estimated (None): the world
+postures (postures.py) and vote by 1 / distance; R_camera_palm is the palm frame of the
+landmarks (features.palm_frame). p_camera_palm is not estimated (None): the world
 landmarks are relative to the hand.
 """
 
@@ -44,24 +44,24 @@ def require_detector() -> None:
 
 
 def estimate_from_landmarks(
-    points_cam: NDArray[np.float64], left: bool, table: PostureTable, k: int = DEFAULT_K
+    points_camera: NDArray[np.float64], left: bool, table: PostureTable, k: int = DEFAULT_K
 ) -> HumanGraspEstimate:
     """The estimate for (21, 3) landmarks in the camera frame (any unit)."""
-    query = angle_features(points_cam)
+    query = angle_features(points_camera)
     distances = np.linalg.norm(table.features - query, axis=1)  # [rad]
     ids = np.argsort(distances)[: min(k, len(distances))]
     _, votes = weighted_vote(table.grasps[ids], distances[ids], len(GRASP_ORDER))
     winner = int(np.argmax(votes))
-    R_cam_hand = palm_frame(points_cam, left=left)
+    R_camera_palm = palm_frame(points_camera, left=left)
     neighbours = tuple(
-        Neighbour(int(i), GRASP_ORDER[int(table.grasps[i])], R_cam_hand, float(distances[i]))
+        Neighbour(int(i), GRASP_ORDER[int(table.grasps[i])], R_camera_palm, float(distances[i]))
         for i in ids
     )
     return HumanGraspEstimate(
         grasp=GRASP_ORDER[winner],
         confidence=float(votes[winner] / votes.sum()),
-        R_cam_hand=R_cam_hand,
-        p_cam_hand=None,
+        R_camera_palm=R_camera_palm,
+        p_camera_palm=None,
         neighbours=neighbours,
     )
 

@@ -234,8 +234,8 @@ class RunRecording:
         for c in contacts:
             by_finger.setdefault(c.real_finger, []).append(c)
         for finger, items in by_finger.items():
-            origins = [c.p_world + offset for c in items]
-            vectors = [FORCE_ARROW_SCALE * c.f_world for c in items]
+            origins = [c.p + offset for c in items]
+            vectors = [FORCE_ARROW_SCALE * c.f for c in items]
             self._log(
                 f"{root}/{finger}",
                 rr.Arrows3D(

@@ -40,9 +40,9 @@ def read_contacts(
                 Contact(
                     link=link,
                     real_finger=finger_of_link[link],
-                    p_world=np.asarray(point.position, dtype=float),
-                    n_world=sign * np.asarray(point.normal, dtype=float),
-                    f_world=f_world,
+                    p=np.asarray(point.position, dtype=float),
+                    n=sign * np.asarray(point.normal, dtype=float),
+                    f=f_world,
                 )
             )
     return contacts

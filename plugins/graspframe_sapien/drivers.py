@@ -179,7 +179,7 @@ class SapienHandDriver(HandDriver):
         on_palm = self._palm_touched_since_read or any(c.real_finger == PALM for c in contacts)
         self._first_touch, self._palm_touched_since_read = [], False
         self._latch_steps_left = LATCH_WINDOW
-        strongest = max(contacts, key=lambda c: np.linalg.norm(c.f_world), default=None)
+        strongest = max(contacts, key=lambda c: np.linalg.norm(c.f), default=None)
         return PalmSensorReading(touched=bool(contacts), on_palm=on_palm, first_contact=strongest)
 
     def T_world_palm(self) -> NDArray[np.float64]:
