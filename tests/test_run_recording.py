@@ -3,21 +3,22 @@
 from __future__ import annotations
 
 import json
-import re
-import shutil
-import subprocess
+from collections import defaultdict
 from pathlib import Path
 
 import cv2
 import numpy as np
 import pytest
 from graspframe_rerun.recording import RunRecording
+from rerun.chunk import RrdReader
+from scipy.spatial.transform import Rotation
 
 import graspframe.runner as runner
 from graspframe.cli import main
 from graspframe.errors import GraspframeError
-from graspframe.events import MOTION_CYCLE, WORLD_BUILT, RunInfo
+from graspframe.events import EXECUTE_PRESHAPE, MOTION_CYCLE, WORLD_BUILT, RunInfo
 from graspframe.hal import ObjectDescription
+from graspframe.robot_model import CollisionModel
 from graspframe.transforms import make_T
 
 EXPECTED_ENTITIES = (
@@ -36,23 +37,57 @@ EXPECTED_ENTITIES = (
     "/vision/mask",
     "/log",
 )
-CHUNK = re.compile(r"with (\d+) rows .* - (/\S+) - ")
+# Entities with one sample per motion cycle (besides each /world/robot/ shape).
+PER_CYCLE_ENTITIES = (
+    "/world/object",
+    "/world/palm_path",
+    "/plots/palm_sensor",
+    "/plots/distance_to_goal",
+)
 
 
 def rrd_rows(path: Path) -> dict[str, int]:
-    """entity path -> rows, read back with rerun's own `rerun rrd print`."""
-    rerun = shutil.which("rerun") or str(Path(__import__("sys").executable).parent / "rerun")
-    out = subprocess.run(
-        [rerun, "rrd", "print", str(path)],
-        capture_output=True,
-        text=True,
-        check=True,
-        stdin=subprocess.DEVNULL,
-    ).stdout
-    rows: dict[str, int] = {}
-    for count, entity in CHUNK.findall(out):
-        rows[entity] = rows.get(entity, 0) + int(count)
-    return rows
+    """entity path -> rows (static and on the timeline), read back with rerun's reader."""
+    rows: dict[str, int] = defaultdict(int)
+    for chunk in RrdReader(path).stream():
+        rows[chunk.entity_path] += chunk.num_rows
+    return dict(rows)
+
+
+def rrd_samples(path: Path) -> dict[str, list[tuple[int, dict]]]:
+    """entity path -> (sim_time [ns], {component: value}) of every row on the sim_time
+    timeline, in time order."""
+    samples: dict[str, list[tuple[int, dict]]] = defaultdict(list)
+    for chunk in RrdReader(path).stream():
+        if "sim_time" not in chunk.timeline_names:
+            continue
+        batch = chunk.to_record_batch()
+        sim_time_ns = batch.column("sim_time").to_numpy().astype(np.int64)
+        components = {
+            name: batch.column(name).to_pylist()
+            for name in batch.schema.names
+            if ":" in name  # Archetype:component
+        }
+        for row, t in enumerate(sim_time_ns):
+            values = {name: column[row] for name, column in components.items()}
+            samples[chunk.entity_path].append((int(t), values))
+    for rows in samples.values():
+        rows.sort(key=lambda sample: sample[0])
+    return dict(samples)
+
+
+def _count_motion_cycles(monkeypatch) -> list[float]:
+    """Collects the sim_time [s] of every motion.cycle the recorder receives."""
+    cycle_times: list[float] = []
+    handle = RunRecording.handle
+
+    def counting_handle(self, kind, sim_time, data):
+        if kind == MOTION_CYCLE.name:
+            cycle_times.append(sim_time)
+        handle(self, kind, sim_time, data)
+
+    monkeypatch.setattr(RunRecording, "handle", counting_handle)
+    return cycle_times
 
 
 def _only_run(out: Path) -> Path:
@@ -62,7 +97,8 @@ def _only_run(out: Path) -> Path:
 
 @pytest.mark.slow
 @pytest.mark.parametrize("hand", ["karlsruhe", "barrett"])
-def test_the_demo_runs_and_is_recorded(hand, tmp_path):
+def test_the_demo_runs_and_is_recorded(hand, tmp_path, monkeypatch):
+    cycle_times = _count_motion_cycles(monkeypatch)
     assert main(["run", "--hand", hand, "--out", str(tmp_path)]) == 0
     run_dir = _only_run(tmp_path)
     result = json.loads((run_dir / "result.json").read_text())
@@ -81,8 +117,18 @@ def test_the_demo_runs_and_is_recorded(hand, tmp_path):
     approach_cycles = sum(
         e.get("cycles", 0) for e in result["events"] if e["kind"] == "execute.approach"
     )
-    assert approach_cycles > 0
-    assert rows["/plots/distance_to_goal"] >= approach_cycles  # a frame per control cycle
+    assert len(cycle_times) >= approach_cycles > 0
+    # A sample per control cycle, at its simulation time, on every per-cycle entity.
+    samples = rrd_samples(run_dir / "recording.rrd")
+    cycle_time_ns = [round(1e9 * t) for t in cycle_times]
+    robot_shapes = [entity for entity in samples if entity.startswith("/world/robot/")]
+    joints = [entity for entity in samples if entity.startswith("/plots/joints/")]
+    assert robot_shapes and joints
+    for entity in [*PER_CYCLE_ENTITIES, *robot_shapes, *joints]:
+        times = [t for t, _ in samples[entity]]
+        if entity == "/world/object":
+            times = times[1:]  # its pose when the world was built comes first
+        assert times == cycle_time_ns, entity
 
 
 def test_no_record_writes_no_recording(tmp_path):
@@ -199,6 +245,92 @@ def test_the_recording_takes_the_hand_and_object_from_the_run(fake_hand, fake_ha
     rows = rrd_rows(recording.path)
     assert "/world/object" in rows and "/plots/joints/fk_finger_joint" in rows
     assert any(entity.startswith("/world/robot/fk_finger/") for entity in rows)
+
+
+def _world_built(hand_urdf, T_world_object) -> dict:
+    return {
+        "hand": "fake_hand",
+        "arm": "none",
+        "arm_joint_names": [],
+        "object": "unregistered_can",
+        "model_path": str(hand_urdf),
+        "T_world_arm_base": make_T(p=[0.0, 0.0, 0.2]),
+        "T_world_object": T_world_object,
+        "T_world_object_est": T_world_object,
+        "table_height": 0.0,
+    }
+
+
+def _cycle(i: int) -> dict:
+    """The i-th motion cycle of a made-up motion: fingers closing, palm and object moving."""
+    q = 0.1 * i
+    return {
+        "q_arm": [],
+        "q_hand": {"fk_finger_joint": q, "fk_thumb_joint": 0.5 * q},
+        "T_world_palm": make_T(p=[0.01 * i, 0.0, 0.3]),
+        "T_world_object": make_T(R=Rotation.from_rotvec([0.0, 0.0, q]).as_matrix(), p=[q, 0, 0]),
+        "palm_touched": i >= 4,
+        "distance_to_goal": 0.5 - q,
+    }
+
+
+def test_every_cycle_is_recorded_at_its_time_with_its_values(fake_hand, fake_hand_urdf, tmp_path):
+    can = ObjectDescription("unregistered_can", "cylinder", {"radius": 0.03, "length": 0.1}, 0.2)
+    recording = RunRecording(RunInfo("r1", str(tmp_path), {"record": True}, fake_hand, None, can))
+    recording.handle(WORLD_BUILT.name, 0.0, _world_built(fake_hand_urdf, make_T()))
+    cycle_times = [0.001 * (i + 1) for i in range(7)]
+    cycles = [_cycle(i) for i in range(7)]
+    for i, (sim_time, data) in enumerate(zip(cycle_times, cycles, strict=True)):
+        if i == 3:  # another event between cycles: those before it are sent first
+            recording.handle(EXECUTE_PRESHAPE.name, sim_time, {"preshape": "pinch"})
+        recording.handle(MOTION_CYCLE.name, sim_time, data)
+    recording.finish({"status": "ok"})
+
+    samples = rrd_samples(recording.path)
+    cycle_time_ns = [round(1e9 * t) for t in cycle_times]
+
+    def per_cycle(entity: str, component: str) -> list:
+        rows = samples[entity][1:] if entity == "/world/object" else samples[entity]
+        assert [t for t, _ in rows] == cycle_time_ns, entity
+        return [values[component] for _, values in rows]
+
+    distances = per_cycle("/plots/distance_to_goal", "Scalars:scalars")
+    assert distances == [[data["distance_to_goal"]] for data in cycles]
+    touched = per_cycle("/plots/palm_sensor", "Scalars:scalars")
+    assert touched == [[float(data["palm_touched"])] for data in cycles]
+    for joint in ("fk_finger_joint", "fk_thumb_joint"):
+        values = per_cycle(f"/plots/joints/{joint}", "Scalars:scalars")
+        assert values == [[data["q_hand"][joint]] for data in cycles]
+    # The palm path grows by one point a cycle, over the whole motion.
+    strips = per_cycle("/world/palm_path", "LineStrips3D:strips")
+    for i, (strip,) in enumerate(strips):
+        expected = [data["T_world_palm"][:3, 3] for data in cycles[: i + 1]]
+        np.testing.assert_allclose(strip, expected, atol=1e-6)
+
+    def poses(entity: str) -> list[np.ndarray]:
+        translations = per_cycle(entity, "Transform3D:translation")
+        quaternions = per_cycle(entity, "Transform3D:quaternion")
+        return [
+            make_T(R=Rotation.from_quat(quat_xyzw).as_matrix(), p=p)
+            for (p,), (quat_xyzw,) in zip(translations, quaternions, strict=True)
+        ]
+
+    for T, data in zip(poses("/world/object"), cycles, strict=True):
+        np.testing.assert_allclose(T, data["T_world_object"], atol=1e-6)
+    # Each collision shape where forward kinematics puts it, on the arm base.
+    model = CollisionModel(fake_hand_urdf)
+    T_world_base = _world_built(fake_hand_urdf, make_T())["T_world_arm_base"]
+    shape_poses = []
+    for data in cycles:
+        model.place(fake_hand.with_model_followers(data["q_hand"]))
+        shape_poses.append([T_world_base @ T for _, _, T in model.shapes()])
+    for index, (link, _, _) in enumerate(model.shapes()):
+        recorded = poses(f"/world/robot/{link}/{index}")
+        expected = [poses_at_cycle[index] for poses_at_cycle in shape_poses]
+        np.testing.assert_allclose(recorded, expected, atol=1e-6)
+    # The geometry is logged once, not per cycle.
+    static = {chunk.entity_path for chunk in RrdReader(recording.path).stream() if chunk.is_static}
+    assert "/world/object" in static and "/world/table" in static
 
 
 def test_a_recording_needs_the_descriptions_of_its_run(tmp_path):

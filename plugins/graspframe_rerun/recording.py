@@ -11,7 +11,10 @@ Entity layout (all in the world frame, z up, metres):
     plots/joints/<joint>, plots/palm_sensor, plots/distance_to_goal   scalars
     vision/input, vision/mask                classification image and hand mask
     log                                      the run's events as text
-Timeline "sim_time" [s]: simulation time of each sample.
+Timeline "sim_time" [s]: simulation time of each sample. The static geometry (meshes of
+every collision shape, the table, the object) is logged once; the per-cycle samples
+(transforms, joint values, scalars) are buffered and sent in columns (cycles.py) before
+each further event and at the end of the run.
 The hand and the object come from the run's RunInfo; the events are those declared in
 graspframe/events.py.
 """
@@ -30,6 +33,8 @@ from graspframe.events import RunInfo
 from graspframe.grasps import PALM
 from graspframe.robot_model import CollisionModel
 from graspframe.shapes import geometry_mesh, primitive_mesh
+from graspframe.transforms import quat_xyzw_from_R
+from graspframe_rerun.cycles import MotionCycles, RobotPoser
 
 FINGER_COLOURS = {
     PALM: (150, 150, 150),
@@ -70,8 +75,11 @@ def _object_archetype(obj, colour=(200, 170, 60)):
 
 
 def _transform(T) -> rr.Transform3D:
+    """A pose as translation and quaternion, as the per-cycle columns log it."""
     T = np.asarray(T, dtype=float)
-    return rr.Transform3D(translation=T[:3, 3], mat3x3=T[:3, :3])
+    return rr.Transform3D(
+        translation=T[:3, 3], quaternion=rr.Quaternion(xyzw=quat_xyzw_from_R(T[:3, :3]))
+    )
 
 
 class RunRecording:
@@ -85,14 +93,11 @@ class RunRecording:
         self.path = Path(run.out_dir) / "recording.rrd"
         self.stream = rr.RecordingStream("graspframe", recording_id=run.run_id)
         self.stream.save(str(self.path))
-        self._model: CollisionModel | None = None
-        self._arm_joint_names: tuple[str, ...] = ()
-        self._palm_path: list[np.ndarray] = []
-        self._shape_entities: list[str] = []
+        self._cycles: MotionCycles | None = None  # from world.built on
+        self._sim_time_s = 0.0
         self._handlers = {
             events.WORLD_BUILT.name: self._on_world_built,
             events.PLAN_DONE.name: self._on_plan_done,
-            events.MOTION_CYCLE.name: self._on_motion_cycle,
             events.EXECUTE_FIRST_CONTACT.name: self._on_execute_first_contact,
             events.EXECUTE_CORRECTION.name: self._on_execute_correction,
             events.EXECUTE_HOLD.name: self._on_execute_hold,
@@ -107,7 +112,8 @@ class RunRecording:
 
     def _at(self, sim_time: float | None) -> None:
         if sim_time is not None:
-            self.stream.set_time("sim_time", duration=float(sim_time))
+            self._sim_time_s = float(sim_time)
+            self.stream.set_time("sim_time", duration=self._sim_time_s)
 
     def text(self, message: str) -> None:
         self._log("log", rr.TextLog(message))
@@ -117,14 +123,21 @@ class RunRecording:
     def handle(self, kind: str, sim_time: float | None, data: dict) -> None:
         """Log one run event (`kind` the name of its EventKind) at `sim_time` [s]."""
         self._at(sim_time)
+        if kind == events.MOTION_CYCLE.name:  # buffered; no log line, it would drown the log
+            if self._cycles is not None:
+                self._cycles.add(self._sim_time_s, data)
+            return
+        self._flush_cycles()
         handler = self._handlers.get(kind)
         if handler is not None:
             handler(data)
-        if kind != events.MOTION_CYCLE.name:  # one line per control cycle would drown the log
-            self.text(kind + " " + ", ".join(f"{k}={_short(v)}" for k, v in data.items()))
+        self.text(kind + " " + ", ".join(f"{k}={_short(v)}" for k, v in data.items()))
+
+    def _flush_cycles(self) -> None:
+        if self._cycles is not None:
+            self._cycles.flush()
 
     def _on_world_built(self, data: dict) -> None:
-        self._arm_joint_names = tuple(data["arm_joint_names"])
         T_world_object = np.asarray(data["T_world_object"])
         table_centre = [*T_world_object[:2, 3], data["table_height"] - TABLE_HALF_SIZE[2]]
         self._log(
@@ -146,9 +159,10 @@ class RunRecording:
             ),
             static=True,
         )
-        self._model = CollisionModel(data["model_path"])
+        model = CollisionModel(data["model_path"])
         finger_of_link = self._hand.finger_of_link()
-        for index, (link, shape, _) in enumerate(self._model.shapes()):
+        shape_entities = []
+        for index, (link, shape, _) in enumerate(model.shapes()):
             colour = (
                 finger_colour(finger_of_link.get(link, "arm"))
                 if link in finger_of_link
@@ -162,8 +176,14 @@ class RunRecording:
             archetype = _shape_archetype(shape, colour)
             if archetype is not None:
                 self._log(entity, archetype, static=True)
-            self._shape_entities.append(entity)
-        self._T_world_base = np.asarray(data["T_world_arm_base"])
+            shape_entities.append(entity)
+        poser = RobotPoser(
+            model,
+            np.asarray(data["T_world_arm_base"], dtype=float),
+            tuple(data["arm_joint_names"]),
+            self._hand,
+        )
+        self._cycles = MotionCycles(self.stream, poser, shape_entities)
 
     def _on_plan_done(self, data: dict) -> None:
         pre = np.asarray(data["T_world_palm_pre"])[:3, 3]
@@ -184,25 +204,6 @@ class RunRecording:
             rr.Arrows3D(origins=[pre], vectors=[goal - pre], colors=[(0, 120, 255)]),
             static=True,
         )
-
-    def _on_motion_cycle(self, data: dict) -> None:
-        if self._model is None or self._hand is None:
-            return
-        q_arm = np.asarray(data["q_arm"], dtype=float)
-        q = dict(zip(self._arm_joint_names, q_arm, strict=True))
-        q.update(self._hand.with_model_followers(data["q_hand"]))
-        self._model.place(q)
-        for entity, (_, _, T_base_shape) in zip(
-            self._shape_entities, self._model.shapes(), strict=True
-        ):
-            self._log(entity, _transform(self._T_world_base @ T_base_shape))
-        self._log("world/object", _transform(data["T_world_object"]))
-        self._palm_path.append(np.asarray(data["T_world_palm"])[:3, 3])
-        self._log("world/palm_path", rr.LineStrips3D([self._palm_path], colors=[(255, 255, 255)]))
-        for name, value in q.items():
-            self._log(f"plots/joints/{name}", rr.Scalars(float(value)))
-        self._log("plots/palm_sensor", rr.Scalars(float(bool(data["palm_touched"]))))
-        self._log("plots/distance_to_goal", rr.Scalars(float(data["distance_to_goal"])))
 
     def _on_execute_first_contact(self, data: dict) -> None:
         colour = finger_colour(data["real_finger"])
@@ -275,7 +276,8 @@ class RunRecording:
         )
 
     def finish(self, result: dict) -> None:
-        """Log how the run ended and close the recording file."""
+        """Send the cycles still buffered, log how the run ended and close the file."""
+        self._flush_cycles()
         self.text(f"run {result.get('status')}: {result.get('error', '')}")
         self.stream.flush()
         self.stream.disconnect()

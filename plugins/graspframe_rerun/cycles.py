@@ -1,0 +1,127 @@
+"""The motion cycles of a run, buffered and sent to rerun in columns.
+
+A control cycle only stores its samples (joint values, object pose, palm position,
+scalars); `flush` places the robot's collision shapes for all buffered cycles at once
+and sends each entity's samples in one `send_columns` call, on the "sim_time" timeline
+with the cycles' own times. (One `rr.log` per entity and cycle cost about as much as the
+rest of the run.)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import rerun as rr
+
+from graspframe.hal.descriptions import HandDescription
+from graspframe.robot_model import CollisionModel
+from graspframe.transforms import quat_xyzw_from_R
+
+PALM_PATH_COLOUR = (255, 255, 255)
+
+
+def sim_time_column(sim_time_s) -> rr.TimeColumn:
+    """The "sim_time" index of samples at `sim_time_s` [s], in whole nanoseconds rounded
+    as `set_time(duration=...)` rounds them (the column API would truncate floats)."""
+    sim_time_ns = np.round(1e9 * np.asarray(sim_time_s, dtype=float)).astype(np.int64)
+    return rr.TimeColumn("sim_time", duration=sim_time_ns.astype("timedelta64[ns]"))
+
+
+def transform_columns(T_world_x: np.ndarray) -> rr.ComponentColumnList:
+    """Transform3D columns from N 4x4 poses (N, 4, 4), one row per pose."""
+    return rr.Transform3D.columns(
+        translation=T_world_x[:, :3, 3], quaternion=quat_xyzw_from_R(T_world_x[:, :3, :3])
+    )
+
+
+@dataclass
+class RobotPoser:
+    """Places a run's robot: the world poses of its collision shapes for joint values."""
+
+    model: CollisionModel
+    T_world_base: np.ndarray
+    arm_joint_names: tuple[str, ...]
+    hand: HandDescription
+
+    def q_by_joint(self, q_arm, q_hand: dict[str, float]) -> dict[str, float]:
+        """Every model joint's value [rad] (arm, hand and the hand's mimic followers)."""
+        q = dict(zip(self.arm_joint_names, np.asarray(q_arm, dtype=float), strict=True))
+        q.update(self.hand.with_model_followers(q_hand))
+        return q
+
+    def T_world_shapes(self, q_by_joint: dict[str, float]) -> np.ndarray:
+        """(n_shapes, 4, 4) world poses of the collision shapes, in `model.shapes()` order."""
+        self.model.place(q_by_joint)
+        T_base_shapes = np.stack([T for _, _, T in self.model.shapes()])
+        return self.T_world_base @ T_base_shapes
+
+
+class MotionCycles:
+    """Buffers motion.cycle samples and sends them to `stream` in columns on `flush`.
+
+    shape_entities: the entity of each collision shape, in `poser.model.shapes()` order.
+    The executed palm path grows over the whole run: each cycle's row is the path so far.
+    """
+
+    def __init__(self, stream: rr.RecordingStream, poser: RobotPoser, shape_entities: list[str]):
+        self.stream = stream
+        self.poser = poser
+        self.shape_entities = shape_entities
+        self.sim_time_s: list[float] = []
+        self.q_by_joint: list[dict[str, float]] = []
+        self.T_world_object: list[np.ndarray] = []
+        self.palm_touched: list[float] = []
+        self.distance_to_goal_m: list[float] = []
+        self.p_world_palm_path: list[np.ndarray] = []  # every cycle's, sent or not
+        self._sent_path_points = 0
+
+    def add(self, sim_time_s: float, data: dict) -> None:
+        """Buffer one motion.cycle payload (see graspframe/events.py) at `sim_time_s`."""
+        self.sim_time_s.append(float(sim_time_s))
+        self.q_by_joint.append(self.poser.q_by_joint(data["q_arm"], data["q_hand"]))
+        self.T_world_object.append(np.asarray(data["T_world_object"], dtype=float))
+        self.palm_touched.append(float(bool(data["palm_touched"])))
+        self.distance_to_goal_m.append(float(data["distance_to_goal"]))
+        self.p_world_palm_path.append(np.asarray(data["T_world_palm"], dtype=float)[:3, 3])
+
+    def flush(self) -> None:
+        """Send the buffered cycles, then forget them (the palm path is kept)."""
+        if not self.sim_time_s:
+            return
+        times = sim_time_column(self.sim_time_s)
+        T_world_shapes = np.stack([self.poser.T_world_shapes(q) for q in self.q_by_joint])
+        for index, entity in enumerate(self.shape_entities):
+            self._send(entity, times, transform_columns(T_world_shapes[:, index]))
+        self._send("world/object", times, transform_columns(np.stack(self.T_world_object)))
+        self._send("world/palm_path", times, self._palm_path_columns())
+        for name in dict.fromkeys(name for q in self.q_by_joint for name in q):
+            self._send_scalars(f"plots/joints/{name}", [q.get(name) for q in self.q_by_joint])
+        self._send_scalars("plots/palm_sensor", self.palm_touched)
+        self._send_scalars("plots/distance_to_goal", self.distance_to_goal_m)
+        self._sent_path_points = len(self.p_world_palm_path)
+        for samples in (
+            self.sim_time_s,
+            self.q_by_joint,
+            self.T_world_object,
+            self.palm_touched,
+            self.distance_to_goal_m,
+        ):
+            samples.clear()
+
+    def _palm_path_columns(self) -> rr.ComponentColumnList:
+        path = np.asarray(self.p_world_palm_path)
+        ends = range(self._sent_path_points + 1, len(path) + 1)
+        strips = [path[:end] for end in ends]
+        return rr.LineStrips3D.columns(strips=strips, colors=[PALM_PATH_COLOUR] * len(strips))
+
+    def _send_scalars(self, entity: str, values: Sequence[float | None]) -> None:
+        """Scalars at the buffered times; a None (joint absent from that cycle) is skipped."""
+        rows = [i for i, value in enumerate(values) if value is not None]
+        times = sim_time_column(np.asarray(self.sim_time_s)[rows])
+        scalars = np.asarray([values[i] for i in rows], dtype=float)
+        self._send(entity, times, rr.Scalars.columns(scalars=scalars))
+
+    def _send(self, entity: str, times: rr.TimeColumn, columns) -> None:
+        self.stream.send_columns(entity, indexes=[times], columns=columns)
