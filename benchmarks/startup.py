@@ -1,0 +1,54 @@
+"""Benchmark of the command line's start-up and of the main job end to end.
+
+    python benchmarks/startup.py [--repeats 3]
+
+Prints the median wall time of `graspframe --help` (the import cost every command pays)
+and of the main job, `graspframe run --hand karlsruhe` on the bundled demo with its
+recording, each in a fresh process. The main job's first run fills the cache of combined
+models and human references (GRASPFRAME_CACHE_DIR, a temporary folder unless set) and
+is reported apart; the median is over the warm runs after it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+# The installed console script beside this Python, as a user runs it.
+_SCRIPT = Path(sys.executable).parent / "graspframe"
+GRASPFRAME = [str(_SCRIPT)] if _SCRIPT.exists() else [sys.executable, "-m", "graspframe.cli"]
+
+
+def wall_seconds(command: list[str], env: dict[str, str]) -> float:
+    """Wall time of one run of `command`; a failing command stops the benchmark."""
+    started = time.perf_counter()
+    subprocess.run(command, check=True, env=env, capture_output=True)
+    return time.perf_counter() - started
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args()
+    env = dict(os.environ)
+    env.setdefault("GRASPFRAME_CACHE_DIR", tempfile.mkdtemp(prefix="graspframe-cache-"))
+    helps = [wall_seconds([*GRASPFRAME, "--help"], env) for _ in range(args.repeats)]
+    print(f"graspframe --help: median {statistics.median(helps):.2f} s over {args.repeats}")
+    with tempfile.TemporaryDirectory() as out:
+        main_job = [*GRASPFRAME, "run", "--hand", "karlsruhe", "--out", out]
+        first = wall_seconds(main_job, env)
+        warm = [wall_seconds(main_job, env) for _ in range(args.repeats)]
+    print(
+        f"graspframe run --hand karlsruhe (with recording): first {first:.2f} s, "
+        f"then median {statistics.median(warm):.2f} s over {args.repeats}"
+    )
+
+
+if __name__ == "__main__":
+    main()
