@@ -57,14 +57,15 @@ def run_in_workers(
                 row = worker.check(time_limit)
                 if row is None:
                     continue
-                yield row
+                # The next trial starts before the row is handed on (and written).
                 if worker.process.is_alive() and todo:
                     worker.send(todo.popleft())
-                    continue
-                busy.remove(worker)
-                worker.stop()
-                if todo:  # the worker died or was killed: a fresh one goes on
-                    busy.append(_Worker(context, todo.popleft()))
+                else:
+                    busy.remove(worker)
+                    worker.stop()
+                    if todo:  # the worker died or was killed: a fresh one goes on
+                        busy.append(_Worker(context, todo.popleft()))
+                yield row
     finally:
         for worker in busy:  # only when the sweep stops early: the trials are cut short
             worker.kill()
@@ -89,8 +90,9 @@ class _Worker:
 
     def send(self, spec: TrialSpec) -> None:
         """Start a trial on this worker (it is between trials)."""
-        self.connection.send(spec)
         self.spec, self.since = spec, time.perf_counter()
+        with suppress(OSError):  # it just died: `check` reports the trial as failed
+            self.connection.send(spec)
 
     def check(self, time_limit: float) -> dict | None:
         """The row of its trial if it has one now: its own, or a failed row when the
