@@ -4,13 +4,14 @@
 trials one at a time, a trial per message over its pipe, so a sweep pays the start-up of
 a process per worker instead of per trial. The supervisor (the sweep's process) waits on
 the pipes and on the processes' sentinels together. A row is yielded the moment it
-arrives. A worker that dies (a crash, a kill) or whose trial runs past the time limit is
-killed if needed, that trial yields a failed row with the errors of
-`run_trial_isolated`, and a fresh worker takes the remaining trials.
+arrives (its worker already on its next trial). A worker that dies (a crash, a kill) or
+whose trial runs past the time limit is killed if needed, that trial yields a failed row
+with the errors of `run_trial_isolated`, and a fresh worker takes the remaining trials.
+A worker's start-up (imports) does not count against the trial time limit.
 
-Workers stop when the trials are done and when the sweep stops early (the generator
-closed, or an exception such as Ctrl-C in the supervisor): a worker between trials is
-told to stop, one in a trial is killed. A worker whose supervisor dies exits by itself.
+Workers are told to stop once no trial is left for them. When the sweep stops early (the
+generator closed, or an exception such as Ctrl-C in the supervisor) the workers, each in
+a trial, are killed. A worker whose supervisor dies exits by itself.
 """
 
 from __future__ import annotations
