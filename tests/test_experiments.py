@@ -1,12 +1,16 @@
-"""Experiment sweeps: conditions, local and Dask executors, resuming, failures, summary."""
+"""Experiment sweeps: conditions, local workers and Dask executors, resuming, failures,
+summary."""
 
 from __future__ import annotations
 
 import json
 import math
+import multiprocessing
 import os
+import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -15,6 +19,7 @@ import pytest
 from graspframe.experiments.summary import plot_summary, summarize, write_tables
 from graspframe.experiments.sweep import SweepConfig, load_finished, plan_trials, run_sweep
 from graspframe.experiments.trials import TrialSpec, experiment_b_errors, run_trial_isolated
+from graspframe.experiments.workers import run_in_workers
 
 GRASPS = ("large_diameter", "precision_disc")
 NUMBERS = ("success", "position_err_mm", "orientation_err_deg", "robot_vf", "human_vf")
@@ -106,8 +111,10 @@ def test_a_killed_sweep_resumes_without_losing_or_repeating_a_trial(tmp_path, ca
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and not (trials.exists() and trials.read_text().strip()):
         time.sleep(0.2)
+    workers = _children(process.pid)
     process.kill()
     process.wait()
+    _wait_gone(workers)  # the workers of a killed sweep exit by themselves
     first = load_finished(trials)
     assert 1 <= len(first) < 4, "the sweep should have been killed part-way"
     with trials.open("a") as stream:  # a line cut short by the kill
@@ -140,39 +147,104 @@ def test_a_trial_that_raises_is_recorded_as_failed_and_the_sweep_goes_on(tmp_pat
     assert by_id["arm/barrett/pinch/A"]["status"] == "ok"
 
 
-def test_summary_puts_a_beside_the_mean_of_b():
-    rows = [
-        {"hand": "h", "grasp": "g", "condition": "A", "status": "ok", "success": True,
-         "position_err_mm": 10.0, "orientation_err_deg": 5.0, "robot_vf": 2, "human_vf": 2},
-        {"hand": "h", "grasp": "g", "condition": "B0", "status": "ok", "success": True,
-         "position_err_mm": 20.0, "orientation_err_deg": 10.0, "robot_vf": 2},
-        {"hand": "h", "grasp": "g", "condition": "B1", "status": "ok", "success": False,
-         "position_err_mm": 40.0, "orientation_err_deg": 30.0, "robot_vf": 1},
-        {"hand": "h", "grasp": "g", "condition": "B2", "status": "failed", "error": "x"},
-    ]  # fmt: skip
-    (row,) = summarize(rows)
-    assert row["mount"] == "arm"
-    assert row["A_position_err_mm"] == 10.0
-    assert row["B_position_err_mm"] == pytest.approx(30.0)
-    assert row["B_orientation_err_deg"] == pytest.approx(20.0)
-    assert (row["B_successes"], row["B_trials"], row["failures"]) == (1, 3, 2)
+def _children(pid: int) -> list[int]:
+    """The process ids of the children of process `pid` (Linux)."""
+    pids = []
+    for task in Path(f"/proc/{pid}/task").iterdir():
+        pids += [int(x) for x in (task / "children").read_text().split()]
+    return pids
 
 
-def test_summary_reports_held_after_lift_and_under_disturbance_apart(tmp_path):
-    def trial(condition, success, after_lift):
-        return {
-            "mount": "floating", "hand": "h", "grasp": "g", "condition": condition,
-            "status": "ok", "success": success, "held_after_lift": after_lift,
-            "held_under_disturbance": success if after_lift else None,
-        }  # fmt: skip
+def _running(pid: int) -> bool:
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except FileNotFoundError:
+        return False
+    return stat.rsplit(")", 1)[1].split()[0] != "Z"  # a zombie has exited
 
-    rows = [trial("A", False, True), trial("B0", True, True), trial("B1", False, True)]
-    rows += [trial("B2", False, False), trial("A075", True, True), trial("A125", False, False)]
-    (row,) = summarize(rows)
-    assert (row["A_success"], row["A_held_after_lift"]) == (False, True)
-    assert (row["B_successes"], row["B_held_after_lift"], row["B_trials"]) == (1, 2, 3)
-    assert (row["A075_success"], row["A125_success"]) == (True, False)
-    _, md_path = write_tables([row], tmp_path)
-    line = next(x for x in md_path.read_text().splitlines() if x.startswith("| floating"))
-    assert line.startswith("| floating | h | g | lift only |")
-    assert "| 1/3 (2) |" in line and line.endswith("| yes | no | 4 |")
+
+def _wait_gone(pids: list[int], patience: float = 60.0) -> None:
+    deadline = time.monotonic() + patience
+    while time.monotonic() < deadline and any(_running(pid) for pid in pids):
+        time.sleep(0.1)
+    assert not [pid for pid in pids if _running(pid)], "a worker outlived its sweep"
+
+
+def _kill_worker_once_a_trial_started(runs_dir: Path, killed: list[int]) -> None:
+    # A trial has started once its run folder holds result.json (status "running").
+    while not list(runs_dir.glob("*/result.json")):
+        time.sleep(0.05)
+    for worker in multiprocessing.active_children():
+        os.kill(worker.pid, signal.SIGKILL)
+        killed.append(worker.pid)
+
+
+def test_a_worker_killed_mid_trial_fails_that_trial_and_the_others_run(tmp_path, cache_env):
+    # One worker, in plan order: nohand A and B0 fail at once, barrett A is killed
+    # mid-trial, barrett B0 runs on a fresh worker.
+    config = SweepConfig(("nohand", "barrett"), ("pinch",), tmp_path, directions=1, workers=1)
+    killed: list[int] = []
+    killer = threading.Thread(
+        target=_kill_worker_once_a_trial_started, args=(tmp_path / "runs", killed)
+    )
+    killer.start()
+    rows = run_sweep(config)
+    killer.join()
+    by_id = {r["trial_id"]: r for r in rows}
+    assert len(killed) == 1
+    assert by_id["arm/barrett/pinch/A"]["status"] == "failed"
+    assert by_id["arm/barrett/pinch/A"]["error"] == "the trial process died (exit code -9)"
+    assert by_id["arm/barrett/pinch/A"]["hand"] == "barrett"  # the row of any trial
+    assert by_id["arm/barrett/pinch/B0"]["status"] == "ok"
+    assert "unknown hand" in by_id["arm/nohand/pinch/B0"]["error"]
+    assert load_finished(tmp_path / "trials.jsonl").keys() == by_id.keys()
+    assert not multiprocessing.active_children()
+    assert not any(_running(pid) for pid in killed)
+
+
+def test_a_trial_over_its_time_limit_fails_and_later_trials_run(tmp_path, cache_env):
+    # A barrett pinch takes seconds; the unknown hand fails at once on a fresh worker.
+    config = SweepConfig(
+        ("barrett", "nohand"), ("pinch",), tmp_path, directions=0, workers=1, time_limit=0.5
+    )
+    by_id = {r["trial_id"]: r for r in run_sweep(config)}
+    assert by_id["arm/barrett/pinch/A"]["status"] == "failed"
+    assert by_id["arm/barrett/pinch/A"]["error"] == "timed out after 0 s"
+    assert "unknown hand 'nohand'" in by_id["arm/nohand/pinch/A"]["error"]
+    assert not multiprocessing.active_children()
+
+
+def test_a_sweep_stopped_early_leaves_no_worker(tmp_path):
+    specs = [TrialSpec("nohand", "pinch", f"B{k}", (0.0, 0.0), 0, str(tmp_path)) for k in range(4)]
+    specs.insert(1, TrialSpec("barrett", "pinch", "A", (0.0, 0.0), 0, str(tmp_path)))
+    rows = run_in_workers(specs, workers=2, time_limit=300.0)
+    first = next(rows)
+    assert first["status"] == "failed"
+    pids = [worker.pid for worker in multiprocessing.active_children()]
+    assert pids
+    rows.close()  # what an exception (Ctrl-C) in the sweep's loop does
+    assert not multiprocessing.active_children()
+    assert not any(_running(pid) for pid in pids)
+
+
+# What differs between two runs of the same trial: its wall time and where it was written.
+NOT_RESULTS = ("wall_time", "result_path")
+
+
+@pytest.mark.slow
+def test_one_and_two_workers_give_the_same_rows(tmp_path, cache_env):
+    # Nothing may carry over from trial to trial in a worker (PhysX, for one, lists
+    # contacts in an order that depends on what the process simulated before): the
+    # Karlsruhe trial gives the same row before and after the Barrett one.
+    error_m = (0.05, 0.0)
+    karlsruhe = TrialSpec("karlsruhe", "power_sphere", "B0", error_m, 0, str(tmp_path))
+    barrett = TrialSpec("barrett", "small_diameter", "B0", error_m, 0, str(tmp_path))
+
+    def rows(workers):
+        rows = run_in_workers([karlsruhe, barrett, karlsruhe], workers, time_limit=300.0)
+        return [{k: v for k, v in row.items() if k not in NOT_RESULTS} for row in rows]
+
+    one = rows(1)  # in the order given
+    assert all(row["status"] == "ok" for row in one)
+    assert one[0] == one[2]
+    assert sorted(rows(2), key=json.dumps) == sorted(one, key=json.dumps)

@@ -1,5 +1,8 @@
 """Experiment sweeps: every (hand, grasp, condition) trial, resumable, local or on Dask.
 
+Locally, trials run in long-lived supervised worker processes (workers.py); on Dask,
+each in a fresh process (trials.run_trial_isolated).
+
 Each finished trial is appended to `<out>/trials.jsonl` as one JSON line the moment it
 finishes; rerunning the same sweep skips the trials already there (a line cut short by
 a kill is ignored, so that trial runs again). Conditions: "A" is perfect perception,
@@ -10,8 +13,8 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Callable, Iterator
-from concurrent.futures import ThreadPoolExecutor, as_completed
+from collections.abc import Callable, Generator
+from contextlib import closing
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -25,6 +28,7 @@ from graspframe.experiments.trials import (
     experiment_b_errors,
     run_trial_isolated,
 )
+from graspframe.experiments.workers import run_in_workers
 
 EXECUTORS = ("local", "dask")
 TRIALS_FILE = "trials.jsonl"
@@ -33,7 +37,7 @@ TRIALS_FILE = "trials.jsonl"
 @dataclass(frozen=True)
 class SweepConfig:
     """hands, grasps: names; rho: object error radius [m]; directions: of experiment B
-    (0: experiment A only); executor: "local" (processes here) or "dask"; scheduler: a
+    (0: experiment A only); executor: "local" (worker processes here) or "dask"; scheduler: a
     Dask scheduler address (None: a local Dask cluster); time_limit: per trial [s];
     record: write a rerun recording of every trial; mounts: "arm" and/or "floating";
     sizes: [%] object sizes besides 100 at which experiment A is repeated, on the
@@ -142,15 +146,11 @@ def _ends_with_newline(path: Path) -> bool:
         return stream.read(1) == b"\n"
 
 
-def _run_local(todo: list[TrialSpec], config: SweepConfig) -> Iterator[dict]:
-    # Threads only wait: each trial runs in a process of its own (run_trial_isolated).
-    with ThreadPoolExecutor(max_workers=config.workers) as pool:
-        futures = [pool.submit(run_trial_isolated, spec, config.time_limit) for spec in todo]
-        for future in as_completed(futures):
-            yield future.result()
+def _run_local(todo: list[TrialSpec], config: SweepConfig) -> Generator[dict, None, None]:
+    return run_in_workers(todo, config.workers, config.time_limit)
 
 
-def _run_dask(todo: list[TrialSpec], config: SweepConfig) -> Iterator[dict]:
+def _run_dask(todo: list[TrialSpec], config: SweepConfig) -> Generator[dict, None, None]:
     try:
         import dask
         from distributed import Client, LocalCluster
@@ -203,11 +203,15 @@ def run_sweep(
     finished = load_finished(trials_path)
     todo = [spec for spec in specs if spec.trial_id not in finished]
     done = len(specs) - len(todo)
+    if not todo:
+        return [finished[spec.trial_id] for spec in specs]
     runner = _run_local if config.executor == "local" else _run_dask
-    for row in runner(todo, config) if todo else ():
-        _append(trials_path, row)
-        finished[row["trial_id"]] = row
-        done += 1
-        if on_trial is not None:
-            on_trial(row, done, len(specs))
+    # closing: an interrupted sweep stops its workers before the exception goes on.
+    with closing(runner(todo, config)) as rows:
+        for row in rows:
+            _append(trials_path, row)
+            finished[row["trial_id"]] = row
+            done += 1
+            if on_trial is not None:
+                on_trial(row, done, len(specs))
     return [finished[spec.trial_id] for spec in specs if spec.trial_id in finished]

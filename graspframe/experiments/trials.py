@@ -1,8 +1,10 @@
 """One trial of an experiment: a grasp run reduced to the numbers the summary needs.
 
-A trial runs in a process of its own (spawned fresh), so a crash or a hang in the
-simulator costs that trial only: `run_trial_isolated` waits for it up to a time limit,
-kills it past that, and returns a row that says what happened in every case.
+A trial runs in a process apart from the sweep, so a crash or a hang in the simulator
+costs that trial only: `run_trial_isolated` spawns a fresh process for one trial (the
+Dask executor, single use), `workers.run_in_workers` keeps a few processes for a whole
+sweep (the local executor). Both wait up to a time limit, kill past it, and return a row
+that says what happened in every case.
 """
 
 from __future__ import annotations
@@ -130,13 +132,26 @@ def run_trial_isolated(spec: TrialSpec, time_limit: float = TRIAL_TIME_LIMIT) ->
         return row
     elapsed = time.perf_counter() - started
     if elapsed >= time_limit:
-        error = f"timed out after {time_limit:.0f} s"
-    else:
-        error = f"the trial process died (exit code {process.exitcode})"
+        return failed_row(spec, timed_out_error(time_limit), elapsed)
+    return failed_row(spec, died_error(process.exitcode), elapsed)
+
+
+def timed_out_error(time_limit: float) -> str:
+    """The error of a trial killed past its time limit [s]."""
+    return f"timed out after {time_limit:.0f} s"
+
+
+def died_error(exit_code: int | None) -> str:
+    """The error of a trial whose process ended without a row (a crash, a kill)."""
+    return f"the trial process died (exit code {exit_code})"
+
+
+def failed_row(spec: TrialSpec, error: str, wall_time: float) -> dict:
+    """The row of a trial that gave no row of its own; wall_time [s]."""
     return {
         "trial_id": spec.trial_id,
         **asdict(spec),
         "status": "failed",
         "error": error,
-        "wall_time": elapsed,
+        "wall_time": wall_time,
     }

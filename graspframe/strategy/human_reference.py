@@ -52,7 +52,7 @@ from graspframe.transforms import make_T
 
 FORMAT = "graspframe.human_contacts/1"
 # Part of the cache key: bump it when the way references are simulated changes.
-PROCEDURE_VERSION = 3
+PROCEDURE_VERSION = 4
 SETTLE_TIME = 1.0  # [s] after the slowest joint could have reached its closed target
 # The hand takes its open posture this far back along its palm normal, then approaches.
 APPROACH_DISTANCE = 0.08  # [m]

@@ -16,7 +16,8 @@ MIN_CONTACT_FORCE = 0.01  # [N]
 def read_contacts(
     scene, object_entity, finger_of_link: Mapping[str, str], timestep: float
 ) -> list[Contact]:
-    """Every force-carrying contact point between the object and a hand link.
+    """Every force-carrying contact point between the object and a hand link, ordered
+    by link name, then position.
 
     PhysX reports per pair (bodies[0], bodies[1]) points whose normal points from
     bodies[1] into bodies[0] and whose impulse acts on bodies[0] [N s].
@@ -45,4 +46,12 @@ def read_contacts(
                     f=f_world,
                 )
             )
+    # PhysX lists the pairs in an order that depends on what the process simulated
+    # before; a fixed order keeps sums over the contacts (grasp quality) the same in
+    # every process, fresh or long-lived.
+    contacts.sort(key=_contact_order)
     return contacts
+
+
+def _contact_order(contact: Contact) -> tuple:
+    return (contact.link, *contact.p, *contact.n, *contact.f)
