@@ -7,7 +7,7 @@ benchmarks/recording.py (the recording's cost as a ratio), benchmarks/db_build.p
 view database at the shipped settings, views per second) and benchmarks/sweep.py (the
 full A + B sweep with 1 and 2 workers, trials per second and the speed-up), each in a
 fresh process, and prints their figures as they come. --quick runs the sweep for one
-hand and one direction and builds a tenth of the database. Takes about 10 minutes on 2
+hand and one direction and builds a tenth of the database. Takes about 6 minutes on 2
 cores without --quick.
 """
 
