@@ -85,7 +85,16 @@ class HandModel:
 
         self.description = default_registry().get_hand("human")
         self.collision = CollisionModel(self.description.model_path)
-        self._shape_meshes = [_coal_mesh(shape) for _, shape, _ in self.collision.shapes()]
+        meshes = [_coal_mesh(shape) for _, shape, _ in self.collision.shapes()]
+        # All shapes' triangles in one array, each shape a slice of it (in shape order),
+        # so that posing the hand fills one preallocated array.
+        ends = np.cumsum([len(m.positions) for m in meshes])
+        self._slices = [
+            slice(int(end) - len(m.positions), int(end))
+            for m, end in zip(meshes, ends, strict=True)
+        ]
+        self._positions_shape = np.concatenate([m.positions for m in meshes]).astype(float)
+        self._normals_shape = np.concatenate([m.normals for m in meshes]).astype(float)
 
     def posture_q(self, grasp: HumanGrasp, closure: float) -> dict[str, float]:
         """Driven joints [rad] between the open (0) and the closed (1) posture of `grasp`."""
@@ -103,16 +112,15 @@ class HandModel:
         """The hand's surface in the palm frame for the driven joints q [rad]."""
         self.collision.place(self.description.with_model_followers(q_by_joint))
         T_palm_root = inv_T(self.collision.T_root_frame(PALM_FRAME))
-        parts = [
-            mesh.transformed(T_palm_root @ T_root_shape)
-            for mesh, (_, _, T_root_shape) in zip(
-                self._shape_meshes, self.collision.shapes(), strict=True
-            )
-        ]
-        return Mesh(
-            np.concatenate([p.positions for p in parts]),
-            np.concatenate([p.normals for p in parts]),
-        )
+        positions = np.empty_like(self._positions_shape)
+        normals = np.empty_like(self._normals_shape)
+        for part, (_, _, T_root_shape) in zip(self._slices, self.collision.shapes(), strict=True):
+            T_palm_shape = T_palm_root @ T_root_shape
+            R_T = T_palm_shape[:3, :3].T
+            np.matmul(self._positions_shape[part], R_T, out=positions[part])
+            positions[part] += T_palm_shape[:3, 3]
+            np.matmul(self._normals_shape[part], R_T, out=normals[part])
+        return Mesh(positions.astype(np.float32), normals.astype(np.float32))
 
 
 def T_palm_object(
