@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 
 from graspframe import events
 from graspframe.contacts import Contact
-from graspframe.errors import GraspframeError, MotionError
+from graspframe.errors import MotionError
 from graspframe.grasps import PALM
 from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import World
@@ -149,15 +149,14 @@ def execute_plan(
     """
     p = params or ExecutorParams()
     emit = emit or (lambda kind, **data: None)
-    if world.object is None:
-        raise GraspframeError("executing a grasp needs a world with an object")
+    probe = held_test.object_probe(world)  # refuses a world without an object
     try:
         return _Execution(plan, world, motion, hand, obj, p, emit).run()
     except MotionError as exc:
         emit(events.EXECUTE_ABORTED, reason=str(exc))
         return GraspOutcome(
             contacts=world.hand.contacts(),
-            T_world_object_at_hold=world.object.T_world_object(),
+            T_world_object_at_hold=probe.T_world_object(),
             corrections=0,
             palm_contact=False,
             held_after_lift=False,
