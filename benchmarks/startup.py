@@ -20,15 +20,17 @@ import tempfile
 import time
 from pathlib import Path
 
+from recording import run_wall_s  # the sibling script in benchmarks/
+
 # The installed console script beside this Python, as a user runs it.
 _SCRIPT = Path(sys.executable).parent / "graspframe"
 GRASPFRAME = [str(_SCRIPT)] if _SCRIPT.exists() else [sys.executable, "-m", "graspframe.cli"]
 
 
-def wall_seconds(command: list[str], env: dict[str, str]) -> float:
-    """Wall time of one run of `command`; a failing command stops the benchmark."""
+def help_wall_s() -> float:
+    """Wall time [s] of one `graspframe --help` process."""
     started = time.perf_counter()
-    subprocess.run(command, check=True, env=env, capture_output=True)
+    subprocess.run([*GRASPFRAME, "--help"], check=True, capture_output=True)
     return time.perf_counter() - started
 
 
@@ -36,14 +38,11 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args()
-    env = dict(os.environ)
-    env.setdefault("GRASPFRAME_CACHE_DIR", tempfile.mkdtemp(prefix="graspframe-cache-"))
-    helps = [wall_seconds([*GRASPFRAME, "--help"], env) for _ in range(args.repeats)]
+    os.environ.setdefault("GRASPFRAME_CACHE_DIR", tempfile.mkdtemp(prefix="graspframe-cache-"))
+    helps = [help_wall_s() for _ in range(args.repeats)]
     print(f"graspframe --help: median {statistics.median(helps):.2f} s over {args.repeats}")
-    with tempfile.TemporaryDirectory() as out:
-        main_job = [*GRASPFRAME, "run", "--hand", "karlsruhe", "--out", out]
-        first = wall_seconds(main_job, env)
-        warm = [wall_seconds(main_job, env) for _ in range(args.repeats)]
+    first = run_wall_s("karlsruhe", record=True)
+    warm = [run_wall_s("karlsruhe", record=True) for _ in range(args.repeats)]
     print(
         f"graspframe run --hand karlsruhe (with recording): first {first:.2f} s, "
         f"then median {statistics.median(warm):.2f} s over {args.repeats}"
