@@ -150,7 +150,7 @@ WORLD_BUILT = EventKind(
         PayloadField("arm", "name of the arm (the floating base on the floating mount)"),
         PayloadField("arm_joint_names", "the arm's joint names, in q_arm order"),
         PayloadField("object", "name of the object"),
-        PayloadField("model_path", "URDF file of the hand on its arm"),
+        PayloadField("model", "the model of the hand on its arm (a UrdfModel)"),
         PayloadField("T_world_arm_base", "4x4 pose of the arm base"),
         PayloadField("T_world_object", "4x4 true object pose"),
         PayloadField("T_world_object_est", "4x4 object pose the robot believes"),

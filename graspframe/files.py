@@ -1,4 +1,4 @@
-"""Writing files so that a reader never sees a partial one.
+"""Writing files so that a reader never sees a partial one; where cached files live.
 
 `atomic_write` writes to a temporary file with a unique name in the target's folder,
 flushes it to disk, then renames it over the target (`os.replace`, atomic on one file
@@ -14,6 +14,18 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import BinaryIO
+
+CACHE_ENV = "GRASPFRAME_CACHE_DIR"
+
+
+def cache_dir(kind: str) -> Path:
+    """The cache folder of one kind of file graspframe computes once and reuses
+    ("decompositions", "human_references"), created on demand, under GRASPFRAME_CACHE_DIR
+    (default ~/.cache/graspframe)."""
+    root = Path(os.environ.get(CACHE_ENV, Path.home() / ".cache" / "graspframe"))
+    path = root / kind
+    path.mkdir(parents=True, exist_ok=True)
+    return path
 
 
 def temporary_path(path: Path) -> Path:

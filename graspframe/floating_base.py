@@ -87,5 +87,5 @@ def mount_floating(hand, T_world_palm: NDArray[np.float64]):
 
     robot = mount(floating_base(), hand)
     # The hand's root sits on the flange, so its root -> palm is flange -> palm.
-    T_flange_palm = CollisionModel(hand.model_path).T_root_frame(hand.palm_frame)
+    T_flange_palm = CollisionModel(hand.urdf()).T_root_frame(hand.palm_frame)
     return robot, T_world_base_for(T_world_palm, T_flange_palm)

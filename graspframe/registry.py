@@ -7,7 +7,9 @@ are called on their own, so one broken plugin is recorded as failed (shown by
 GRASPFRAME_STRICT_PLUGINS=1 re-raises the first failure instead; GRASPFRAME_DISABLE_PLUGINS
 takes a comma-separated list of plugin names not to load.
 
-Core code asks the registry (`get_hand("karlsruhe")`), never `pm.hook` directly.
+Core code asks the registry (`get_hand("karlsruhe")`), never `pm.hook` directly. Where
+a hand or an arm is asked for, a spec file path (`my_hand.toml`, graspframe/specs.py)
+may stand in for a registered name.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ import traceback
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from importlib.metadata import EntryPoint, entry_points
+from pathlib import Path
 from types import ModuleType
 from typing import Any
 
@@ -32,6 +35,7 @@ from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.drivers import Backend
 from graspframe.hal.objects import ObjectDescription
 from graspframe.plugins import hookspecs
+from graspframe.specs import is_spec_path, load_spec
 
 log = logging.getLogger(__name__)
 
@@ -277,9 +281,15 @@ class Registry:
             raise UnknownNameError(kind, name, self._entries[kind]) from None
 
     def get_hand(self, name: str) -> HandDescription:
+        """The registered hand `name`, or the hand of the spec file `name` (*.toml)."""
+        if is_spec_path(name):
+            return _spec_of_kind(name, HandDescription, "hand")
         return self.entry("hand", name).item
 
     def get_arm(self, name: str) -> ArmDescription:
+        """The registered arm `name`, or the arm of the spec file `name` (*.toml)."""
+        if is_spec_path(name):
+            return _spec_of_kind(name, ArmDescription, "arm")
         return self.entry("arm", name).item
 
     def get_backend(self, name: str) -> type[Backend]:
@@ -324,6 +334,20 @@ class Registry:
                 if self.strict:
                     raise
                 log.exception("observer %r failed in %s", impl.plugin_name, hook)
+
+
+def _spec_of_kind(path: str, kind: type, what: str) -> Any:
+    """The description of a spec file, which must describe a `what`."""
+    description = _load_spec(str(Path(path).expanduser().resolve()))
+    if not isinstance(description, kind):
+        raise PluginError(f"spec {Path(path).name} describes an {description.__class__.__name__}"
+                          f", not a {what}")  # fmt: skip
+    return description
+
+
+@functools.cache
+def _load_spec(path: str) -> HandDescription | ArmDescription:
+    return load_spec(path)
 
 
 @functools.cache

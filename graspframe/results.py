@@ -14,6 +14,7 @@ import numpy as np
 
 from graspframe.contacts import Contact
 from graspframe.files import atomic_write
+from graspframe.urdf_model import UrdfModel
 
 VERSIONED_PACKAGES = ("graspframe", "sapien", "pin", "placo", "ruckig", "rerun-sdk", "numpy")
 
@@ -28,6 +29,8 @@ def jsonable(value: Any) -> Any:
         return value if math.isfinite(value) else None
     if isinstance(value, Contact):
         return value.to_dict()
+    if isinstance(value, UrdfModel):  # a robot model: what it is, not its text
+        return {"name": value.name, "digest": value.digest, "sources": jsonable(value.sources)}
     if isinstance(value, dict):
         return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, list | tuple | set | frozenset):

@@ -1,13 +1,20 @@
-"""Reading URDF models with Pinocchio: joints, limits and links, for checks and kinematics."""
+"""Reading robot models with Pinocchio: joints, limits, links and collision shapes.
+
+Every function takes a `UrdfModel` (graspframe/urdf_model.py: the URDF text in memory,
+collision meshes already replaced by convex pieces). Pinocchio loads each piece as a
+triangle mesh; `collision_geometry` turns those into coal `Convex` shapes, so distances
+and collisions are those of the solid piece (as the simulator sees it), not of its
+surface.
+"""
 
 from __future__ import annotations
 
 import functools
 from collections.abc import Set as AbstractSet
 from dataclasses import dataclass
-from pathlib import Path
 
 from graspframe.errors import DescriptionError
+from graspframe.urdf_model import UrdfModel
 
 
 @dataclass(frozen=True)
@@ -29,28 +36,52 @@ class UrdfSummary:
     links: frozenset[str]
 
 
-def load_pinocchio_model(path: Path | str, mimic: bool = False):
-    """The Pinocchio model of a URDF file; a clear error if it is missing or malformed.
+def load_pinocchio_model(model: UrdfModel, mimic: bool = False):
+    """The Pinocchio model of a robot model; a clear error if Pinocchio cannot read it.
 
     mimic=True makes <mimic> followers part of their leader joint (reduced configuration).
     """
     import pinocchio as pin
 
-    path = Path(path)
-    if not path.is_file():
-        raise DescriptionError(f"model file not found: {path}")
     try:
-        return pin.buildModelFromUrdf(str(path), mimic)
+        return pin.buildModelFromXML(model.text, mimic)
     except Exception as exc:
-        raise DescriptionError(f"Pinocchio cannot load {path.name}: {exc}") from exc
+        raise DescriptionError(f"Pinocchio cannot load {model.describe()}: {exc}") from exc
+
+
+def collision_geometry(model: UrdfModel, pinocchio_model):
+    """Pinocchio's collision geometry model of `model`, every mesh as a coal `Convex`
+    (the meshes are convex pieces: graspframe/convex.py)."""
+    import coal
+    import pinocchio as pin
+
+    try:
+        geometry = pin.buildGeomFromUrdfString(
+            pinocchio_model, model.text, pin.GeometryType.COLLISION
+        )
+    except Exception as exc:
+        raise DescriptionError(
+            f"Pinocchio cannot load the collision shapes of {model.describe()}: {exc}"
+        ) from exc
+    for geometry_object in geometry.geometryObjects:
+        if isinstance(geometry_object.geometry, coal.BVHModelBase):
+            mesh = geometry_object.geometry
+            mesh.buildConvexRepresentation(False)
+            geometry_object.geometry = mesh.convex
+    return geometry
+
+
+def summarize_urdf(model: UrdfModel) -> UrdfSummary:
+    """Joint limits and link names of a model, read by Pinocchio (each follower
+    separately)."""
+    return _summary(model.text, model.describe())
 
 
 @functools.lru_cache(maxsize=64)
-def summarize_urdf(path: Path | str) -> UrdfSummary:
-    """Joint limits and link names of a URDF, read by Pinocchio (each follower separately)."""
+def _summary(text: str, name: str) -> UrdfSummary:
     import pinocchio as pin
 
-    model = load_pinocchio_model(path, mimic=False)
+    model = load_pinocchio_model(UrdfModel(name, text), mimic=False)
     joints: dict[str, UrdfJoint] = {}
     for joint_id in range(1, model.njoints):
         joint = model.joints[joint_id]
@@ -69,8 +100,17 @@ def summarize_urdf(path: Path | str) -> UrdfSummary:
     return UrdfSummary(joints=joints, links=links)
 
 
+def _inside_convex(points, p, tolerance: float = 1e-9) -> bool:
+    """Whether the point p lies in the convex hull of `points` (both in one frame) [m]."""
+    import numpy as np
+    from scipy.spatial import ConvexHull
+
+    equations = ConvexHull(points).equations
+    return bool(np.all(equations[:, :3] @ p + equations[:, 3] <= tolerance))
+
+
 class CollisionModel:
-    """A URDF's collision shapes placed by Pinocchio forward kinematics.
+    """A model's collision shapes placed by Pinocchio forward kinematics.
 
     Used to check geometry facts: which shapes contain a point (palm frame direction),
     which links collide in a configuration (self-collision of preshapes), and to draw a
@@ -78,14 +118,13 @@ class CollisionModel:
     couplings are ordinary joints here (mimic=False), so callers give their values.
     """
 
-    def __init__(self, urdf_path: Path | str):
+    def __init__(self, urdf: UrdfModel):
         import pinocchio as pin
 
         self._pin = pin
-        self.model = load_pinocchio_model(urdf_path, mimic=False)
-        self.geometry = pin.buildGeomFromUrdf(
-            self.model, str(urdf_path), pin.GeometryType.COLLISION
-        )
+        self.urdf = urdf
+        self.model = load_pinocchio_model(urdf, mimic=False)
+        self.geometry = collision_geometry(urdf, self.model)
         self.data = self.model.createData()
         self.geometry_data = pin.GeometryData(self.geometry)
         self.q = pin.neutral(self.model)
@@ -119,8 +158,11 @@ class CollisionModel:
             yield self.link_of_shape[index], obj.geometry, pose
 
     def links_containing(self, p_root) -> list[str]:
-        """Links with a box, cylinder or sphere shape that contains the point p_root [m]."""
+        """Links with a shape (box, cylinder, sphere or convex piece) that contains the
+        point p_root [m]."""
         import numpy as np
+
+        from graspframe.shapes import convex_points
 
         inside = []
         for link, shape, T_root_shape in self.shapes():
@@ -133,6 +175,8 @@ class CollisionModel:
                 hit = bool(np.hypot(p[0], p[1]) <= shape.radius and abs(p[2]) <= shape.halfLength)
             elif kind == "Sphere":
                 hit = bool(np.linalg.norm(p) <= shape.radius)
+            elif kind == "Convex":
+                hit = _inside_convex(convex_points(shape), p)
             else:
                 raise DescriptionError(f"link {link!r}: cannot test points against a {kind}")
             if hit and link not in inside:

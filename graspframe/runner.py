@@ -367,7 +367,7 @@ def _execute_in_world(
             arm=checked.robot.arm.name,
             arm_joint_names=checked.robot.arm.joint_names,
             object=inputs.obj.name,
-            model_path=str(checked.robot.urdf_path),
+            model=checked.robot.model,
             T_world_arm_base=config.T_world_arm_base,
             T_world_object=config.T_world_object,
             T_world_object_est=T_world_object_est,
@@ -439,7 +439,7 @@ def _draw_snapshots(run_dir, checked, config, snapshots, outcome, grasp) -> str 
         return None
     hand, arm = config.hand, checked.robot.arm
     scene = scene_of_robot(
-        checked.robot.urdf_path, checked.T_world_base, hand, config.object, config.table_height
+        checked.robot.model, checked.T_world_base, hand, config.object, config.table_height
     )
     frames = []
     for data in snapshots:

@@ -5,7 +5,8 @@ A primitive is a shape name and its dimensions [m] in `ObjectDescription`'s conv
 "box" (size_x, size_y, size_z: full sizes), "cylinder" (radius, length; axis along its z)
 or "sphere" (radius), centred on its own frame. A collision geometry is a coal shape as
 Pinocchio's geometry model holds it (Box, Cylinder, Sphere, Capsule, Cone, centred on
-their frame; any other kind is meshed as its local bounding box).
+their frame, and Convex pieces of meshes; any other kind is meshed as its local bounding
+box).
 
 The renderer, the rerun recording, the snapshot pictures, the hand geometry and the
 hand drawings all take their meshes from here.
@@ -77,14 +78,21 @@ def geometry_primitive(geometry) -> tuple[str, dict[str, float]] | None:
     return None
 
 
+def convex_points(geometry) -> NDArray[np.float64]:
+    """(n, 3) [m] the vertices of a coal Convex, in its own frame."""
+    return np.asarray(geometry.points(), dtype=float).reshape(-1, 3)
+
+
 def geometry_mesh(geometry, sections: int = CYLINDER_SECTIONS) -> trimesh.Trimesh | None:
     """The surface of a coal collision geometry in its own frame [m]. Capsules and cones
-    are meshed; other kinds (meshes, ...) as their local bounding box; None when even
-    that is not available."""
+    are meshed, a convex piece is its hull; other kinds as their local bounding box;
+    None when even that is not available."""
     primitive = geometry_primitive(geometry)
     if primitive is not None:
         return primitive_mesh(*primitive, sections=sections)
     kind = type(geometry).__name__
+    if kind == "Convex":
+        return trimesh.convex.convex_hull(convex_points(geometry))
     if kind == "Capsule":
         return trimesh.creation.capsule(
             height=2.0 * float(geometry.halfLength),

@@ -36,6 +36,7 @@ from graspframe.files import atomic_output
 from graspframe.hal.objects import SHAPES
 from graspframe.shapes import geometry_mesh, primitive_mesh
 from graspframe.transforms import inv_T, transform_points
+from graspframe.urdf_model import UrdfModel
 
 FAR_OBJECT = 0.5  # [m] an object further from the palm is left out of the framing
 PANEL_INCH = 4.0  # per panel; plus margins for the title, x labels, row labels:
@@ -63,7 +64,7 @@ PALM = "palm"
 class SnapshotScene:
     """What stays the same over a run.
 
-    urdf_path: the robot model (hand alone, or on an arm or a floating base); only its
+    model: the robot model (hand alone, or on an arm or a floating base); only its
         collision shapes are drawn.
     T_world_root: pose of the URDF root link in the world.
     palm_frame: the palm frame link of the URDF.
@@ -76,7 +77,7 @@ class SnapshotScene:
     table_height: [m] world z of the table top (the table is the half-space below).
     """
 
-    urdf_path: Path
+    model: UrdfModel
     T_world_root: NDArray[np.float64]
     palm_frame: str
     finger_of_link: Mapping[str, str]
@@ -86,11 +87,11 @@ class SnapshotScene:
     table_height: float
 
 
-def scene_of_robot(urdf_path: Path, T_world_root, hand, obj, table_height: float) -> SnapshotScene:
-    """The scene of a hand (a HandDescription, alone or mounted: `urdf_path` is the model
+def scene_of_robot(model: UrdfModel, T_world_root, hand, obj, table_height: float) -> SnapshotScene:
+    """The scene of a hand (a HandDescription, alone or mounted: `model` is the model
     drawn, its root at T_world_root) and an ObjectDescription on a table."""
     return SnapshotScene(
-        urdf_path=urdf_path,
+        model=model,
         T_world_root=T_world_root,
         palm_frame=hand.palm_frame,
         finger_of_link=hand.finger_of_link(),
@@ -316,11 +317,11 @@ def _place_moments(scene: SnapshotScene, snapshots: Sequence[Snapshot]) -> list[
         for s in snapshots
     ]
     try:
-        model = CollisionModel(scene.urdf_path)
+        model = CollisionModel(scene.model)
     except GraspframeError as exc:
         raise InputError(f"snapshots: {exc}") from None
     if not model.model.existFrame(scene.palm_frame):
-        raise InputError(f"palm frame {scene.palm_frame!r} is not in {Path(scene.urdf_path).name}")
+        raise InputError(f"palm frame {scene.palm_frame!r} is not in {scene.model.describe()}")
     local = [(link, geometry, solid_of_geometry(geometry)) for link, geometry, _ in model.shapes()]
     moments = []
     for snapshot, T_world_object, contacts in checked:

@@ -70,7 +70,7 @@ def q_full(q_arm, q_hand) -> dict[str, float]:
 
 @pytest.fixture(scope="module")
 def checker() -> RobotCollisionChecker:
-    return RobotCollisionChecker(ROBOT.urdf_path, np.eye(4), obstacles())
+    return RobotCollisionChecker(ROBOT.model, np.eye(4), obstacles())
 
 
 @pytest.fixture(scope="module")
@@ -124,7 +124,7 @@ def test_home_pose_is_free(checker, q_home):
     # Independent forward kinematics: every shape clears the table top and the can's
     # bounding sphere by more than the margin (the arm base plate stands *on* z = 0 but
     # the table, centred under the can, ends 14 cm before it).
-    model = CollisionModel(ROBOT.urdf_path)
+    model = CollisionModel(ROBOT.model)
     model.place(q_home)
     can_radius = math.hypot(CAN.dimensions["radius"], CAN.half_height)
     table_near_edge = OBJECT_XY[0] - 0.30
@@ -200,7 +200,7 @@ def test_first_collision_on_path(checker, q_home, q_in_can):
 def test_verdicts_do_not_depend_on_where_the_world_is(checker, q_home, q_in_can, q_on_table):
     T_new_world = make_T(R_from_rpy(0.3, -0.2, 1.1), [1.5, -0.7, 0.4])
     moved = RobotCollisionChecker(
-        ROBOT.urdf_path, T_new_world, [o.moved(T_new_world) for o in obstacles()]
+        ROBOT.model, T_new_world, [o.moved(T_new_world) for o in obstacles()]
     )
     for q in (q_home, q_in_can, q_on_table):
         assert same_verdicts(moved.collisions(q), checker.collisions(q))
@@ -210,11 +210,11 @@ def test_table_under_the_arm_base_is_ignored_on_request(q_home):
     # A can at x = 0.30 m puts the table's near edge at x = 0: the base plate (bottom at
     # z = 0) rests on the table top.
     table = [table_obstacle(TABLE_HEIGHT, (0.30, 0.0))]
-    found = RobotCollisionChecker(ROBOT.urdf_path, None, table).collisions(q_home)
+    found = RobotCollisionChecker(ROBOT.model, None, table).collisions(q_home)
     assert pairs(found) == [("kr5_base", "table")]
     assert found[0].distance == pytest.approx(0.0, abs=1e-6)
     for ignore in ([("kr5_base", "table")], ["kr5_base"]):
-        quiet = RobotCollisionChecker(ROBOT.urdf_path, None, table, ignore=ignore)
+        quiet = RobotCollisionChecker(ROBOT.model, None, table, ignore=ignore)
         assert quiet.collisions(q_home) == []
 
 
@@ -222,10 +222,10 @@ def test_hand_alone_at_a_root_pose():
     # The Barrett URDF alone, root z up: its palm pad (84 mm up the root's z) at the can's
     # centroid, then the hand lifted 20 cm, clear of everything.
     T_world_hand = make_T(p=[*OBJECT_XY, CAN.half_height - 0.084])
-    inside = RobotCollisionChecker(HAND.model_path, T_world_hand, obstacles())
+    inside = RobotCollisionChecker(HAND.urdf(), T_world_hand, obstacles())
     assert "bh_palm_pad" in {c.robot_link for c in inside.collisions({}, obstacles=["object"])}
     T_world_hand[2, 3] += 0.20
-    lifted = RobotCollisionChecker(HAND.model_path, T_world_hand, obstacles())
+    lifted = RobotCollisionChecker(HAND.urdf(), T_world_hand, obstacles())
     assert lifted.collisions({}) == []
 
 
@@ -233,12 +233,12 @@ def test_margin_counts_clearance_not_only_contact():
     # The hand alone, root z up, its base cylinder's bottom face (the root plane) 3 mm
     # above the can's top face, coaxial: a 3 mm gap.
     T_world_hand = make_T(p=[*OBJECT_XY, TABLE_HEIGHT + 2 * CAN.half_height + 0.003])
-    close = RobotCollisionChecker(HAND.model_path, T_world_hand, obstacles(), margin=0.005)
+    close = RobotCollisionChecker(HAND.urdf(), T_world_hand, obstacles(), margin=0.005)
     found = close.collisions({})
     assert pairs(found) == [("bh_base", "object")]
     assert found[0].distance == pytest.approx(0.003, abs=1e-6)
     assert "3.0 mm from the object" in found[0].describe()
-    loose = RobotCollisionChecker(HAND.model_path, T_world_hand, obstacles(), margin=0.002)
+    loose = RobotCollisionChecker(HAND.urdf(), T_world_hand, obstacles(), margin=0.002)
     assert loose.collisions({}) == []
 
 
@@ -246,11 +246,11 @@ def test_bad_inputs_are_reported(checker):
     with pytest.raises(GraspframeError, match=r"'kr5_a7'.*kr5_a1"):
         checker.collisions({"kr5_a7": 0.0})
     with pytest.raises(GraspframeError, match="distinct"):
-        RobotCollisionChecker(ROBOT.urdf_path, None, obstacles() * 2)
+        RobotCollisionChecker(ROBOT.model, None, obstacles() * 2)
     with pytest.raises(GraspframeError, match="needs dimensions"):
         Obstacle("table", "box", {"radius": 0.1}, np.eye(4))
     with pytest.raises(GraspframeError, match="margin"):
-        RobotCollisionChecker(ROBOT.urdf_path, None, obstacles(), margin=-0.001)
+        RobotCollisionChecker(ROBOT.model, None, obstacles(), margin=-0.001)
 
 
 def test_describe():

@@ -17,7 +17,12 @@ from graspframe.errors import GraspframeError, UnknownNameError
 from graspframe.hal import WorldConfig
 from graspframe.mounting import mount
 from graspframe.registry import default_registry
-from graspframe.robot_model import CollisionModel, load_pinocchio_model, summarize_urdf
+from graspframe.robot_model import (
+    CollisionModel,
+    collision_geometry,
+    load_pinocchio_model,
+    summarize_urdf,
+)
 from graspframe.transforms import R_from_rpy, make_T
 
 REGISTRY = default_registry()
@@ -30,9 +35,9 @@ DESCRIPTIONS = [("hand", h) for h in HANDS] + [("arm", a) for a in ARMS]
 LIMIT_TOL = 1e-5  # [rad]
 
 
-def _sapien_limits(urdf_path, fix_root=True):
+def _sapien_limits(model, fix_root=True):
     scene = create_scene(1 / 500)
-    articulation = load_articulation(scene, urdf_path, fix_root=fix_root)
+    articulation = load_articulation(scene, model, fix_root=fix_root)
     names = list(active_joints(articulation))
     return dict(zip(names, np.asarray(articulation.get_qlimits()), strict=True))
 
@@ -45,8 +50,8 @@ def test_builtin_models_are_registered():
 @pytest.mark.parametrize(("kind", "name"), DESCRIPTIONS)
 def test_model_has_same_joints_and_limits_in_pinocchio_and_sapien(kind, name):
     description = REGISTRY.entry(kind, name).item
-    urdf = summarize_urdf(str(description.model_path))
-    sapien_limits = _sapien_limits(description.model_path)
+    urdf = summarize_urdf(description.urdf())
+    sapien_limits = _sapien_limits(description.urdf())
     assert sorted(sapien_limits) == sorted(urdf.joints)
     for joint_name, joint in urdf.joints.items():
         lower, upper = sapien_limits[joint_name]
@@ -63,15 +68,13 @@ def test_every_hand_mounts_on_every_arm(hand_name, arm_name):
     T_flange_hand = make_T(R_from_rpy(0.0, 0.0, math.pi / 4), [0.0, 0.0, 0.01])
     robot = mount(arm, hand, T_flange_hand)
 
-    combined = summarize_urdf(str(robot.urdf_path))
-    alone = set(summarize_urdf(str(arm.model_path)).joints) | set(
-        summarize_urdf(str(hand.model_path)).joints
-    )
+    combined = summarize_urdf(robot.model)
+    alone = set(summarize_urdf(arm.urdf()).joints) | set(summarize_urdf(hand.urdf()).joints)
     assert set(combined.joints) == alone
-    assert sorted(_sapien_limits(robot.urdf_path)) == sorted(alone)
+    assert sorted(_sapien_limits(robot.model)) == sorted(alone)
 
     # The palm sits where flange pose x mount transform x hand-alone palm pose puts it.
-    model = load_pinocchio_model(robot.urdf_path)
+    model = load_pinocchio_model(robot.model)
     data = model.createData()
     q = pin.neutral(model)
     for joint_name, value in zip(arm.joint_names, arm.home_q, strict=True):
@@ -79,7 +82,7 @@ def test_every_hand_mounts_on_every_arm(hand_name, arm_name):
     pin.framesForwardKinematics(model, data, q)
     T_base_flange = data.oMf[model.getFrameId(arm.flange_link)].homogeneous
     T_base_palm = data.oMf[model.getFrameId(hand.palm_frame)].homogeneous
-    hand_alone = CollisionModel(hand.model_path)
+    hand_alone = CollisionModel(hand.urdf())
     T_hand_palm = hand_alone.T_root_frame(hand.palm_frame)
     np.testing.assert_allclose(T_base_palm, T_base_flange @ T_flange_hand @ T_hand_palm, atol=1e-9)
 
@@ -102,10 +105,10 @@ def test_a_hand_mounts_through_its_adapters(hand_name, mounting_name):
     # The adapter is one more link, fixed to the hand's root, with the adapter's shapes
     # where the mounting puts them; the simulator loads the same joints.
     adapter_link = f"{hand.root_link}_adapter"
-    combined = summarize_urdf(str(robot.urdf_path))
+    combined = summarize_urdf(robot.model)
     assert adapter_link in combined.links
-    assert sorted(_sapien_limits(robot.urdf_path)) == sorted(combined.joints)
-    pinocchio_model = load_pinocchio_model(robot.urdf_path, mimic=False)
+    assert sorted(_sapien_limits(robot.model)) == sorted(combined.joints)
+    pinocchio_model = load_pinocchio_model(robot.model, mimic=False)
     data = pinocchio_model.createData()
     q = pin.neutral(pinocchio_model)
     for joint_name, value in zip(arm.joint_names, arm.home_q, strict=True):
@@ -115,9 +118,7 @@ def test_a_hand_mounts_through_its_adapters(hand_name, mounting_name):
     T_base_root = data.oMf[pinocchio_model.getFrameId(hand.root_link)].homogeneous
     # The URDF holds 9 significant digits: a quarter turn is off by ~4e-9 rad.
     np.testing.assert_allclose(T_base_root, T_base_flange @ mounting.T_flange_hand, atol=1e-8)
-    geometry = pin.buildGeomFromUrdf(
-        pinocchio_model, str(robot.urdf_path), pin.GeometryType.COLLISION
-    )
+    geometry = collision_geometry(robot.model, pinocchio_model)
     geometry_data = pin.GeometryData(geometry)
     pin.updateGeometryPlacements(pinocchio_model, data, geometry, geometry_data, q)
     placed = [
@@ -142,7 +143,7 @@ def test_open_preshape_is_within_limits_and_free_of_self_collision(hand_name, pr
     preshape = hand.preshapes[preshape_name]
     for joint_name, value in preshape.open_q.items():
         assert hand.joint(joint_name).contains(value), joint_name
-    model = CollisionModel(hand.model_path)
+    model = CollisionModel(hand.urdf())
     model.place(hand.with_model_followers(preshape.open_q))
     assert model.colliding_links() == []
 

@@ -61,7 +61,7 @@ class PinocchioPalm:
 
     def __init__(self, solver: IkSolver):
         self.solver = solver
-        self.model = pin.buildModelFromUrdf(str(solver.robot.urdf_path), False)
+        self.model = pin.buildModelFromXML(solver.robot.model.text, False)
         self.data = self.model.createData()
 
     def __call__(self, q_arm, q_hand=None) -> np.ndarray:

@@ -88,7 +88,7 @@ def test_generator_reproduces_the_shipped_urdf(name, tmp_path, monkeypatch):
 def test_sapien_loads_the_joints_limits_and_links_of_the_urdf(name):
     description = robot(name)
     _, articulation = sapien_articulation(description.model_path)
-    urdf = summarize_urdf(str(description.model_path))
+    urdf = summarize_urdf(description.urdf())
 
     names = [joint.name for joint in articulation.get_active_joints()]
     assert set(names) == set(urdf.joints)

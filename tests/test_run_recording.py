@@ -20,6 +20,7 @@ from graspframe.events import EXECUTE_PRESHAPE, MOTION_CYCLE, WORLD_BUILT, RunIn
 from graspframe.hal import ObjectDescription
 from graspframe.robot_model import CollisionModel
 from graspframe.transforms import make_T
+from graspframe.urdf_model import read_model
 
 EXPECTED_ENTITIES = (
     "/world/table",
@@ -222,7 +223,7 @@ def test_the_recording_takes_the_hand_and_object_from_the_run(fake_hand, fake_ha
             "arm": "none",
             "arm_joint_names": [],
             "object": can.name,
-            "model_path": str(fake_hand_urdf),
+            "model": read_model(fake_hand_urdf),
             "T_world_arm_base": np.eye(4),
             "T_world_object": T_world_object,
             "T_world_object_est": T_world_object,
@@ -253,7 +254,7 @@ def _world_built(hand_urdf, T_world_object) -> dict:
         "arm": "none",
         "arm_joint_names": [],
         "object": "unregistered_can",
-        "model_path": str(hand_urdf),
+        "model": read_model(hand_urdf),
         "T_world_arm_base": make_T(p=[0.0, 0.0, 0.2]),
         "T_world_object": T_world_object,
         "T_world_object_est": T_world_object,
@@ -318,7 +319,7 @@ def test_every_cycle_is_recorded_at_its_time_with_its_values(fake_hand, fake_han
     for T, data in zip(poses("/world/object"), cycles, strict=True):
         np.testing.assert_allclose(T, data["T_world_object"], atol=1e-6)
     # Each collision shape where forward kinematics puts it, on the arm base.
-    model = CollisionModel(fake_hand_urdf)
+    model = CollisionModel(read_model(fake_hand_urdf))
     T_world_base = _world_built(fake_hand_urdf, make_T())["T_world_arm_base"]
     shape_poses = []
     for data in cycles:

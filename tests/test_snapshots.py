@@ -47,12 +47,12 @@ def _arm_pixel_rgb():
 @pytest.fixture(scope="module")
 def barrett_scene() -> tuple[SnapshotScene, list[Snapshot]]:
     """Barrett alone: palm 20 cm above the table, a cylinder standing under it."""
-    model = CollisionModel(BARRETT.model_path)
+    model = CollisionModel(BARRETT.urdf())
     model.place(BARRETT.with_model_followers(hand_q(0, 10)))
     T_world_palm = make_T(R_WORLD_PALM_DOWN, [0.5, 0.1, PALM_HEIGHT])
     T_world_root = T_world_palm @ inv_T(model.T_root_frame(BARRETT.palm_frame))
     scene = SnapshotScene(
-        urdf_path=BARRETT.model_path,
+        model=BARRETT.urdf(),
         T_world_root=T_world_root,
         palm_frame=BARRETT.palm_frame,
         finger_of_link=BARRETT.finger_of_link(),
@@ -135,13 +135,13 @@ def test_hand_on_arm_draws_the_arm_links_near_the_hand(tmp_path: Path):
     arm, hand = registry.get_arm("kuka"), registry.get_hand("barrett")
     robot = mount(arm, hand)
     q = dict(zip(arm.joint_names, arm.home_q, strict=True)) | hand_q(0, 100)
-    model = CollisionModel(robot.urdf_path)
+    model = CollisionModel(robot.model)
     model.place(hand.with_model_followers(q))
     T_world_palm = model.T_root_frame(hand.palm_frame)  # root = arm base = world
     assert T_world_palm[2, 2] < -0.9  # home: the palm faces down
     p_world_object = T_world_palm[:3, 3] + 0.06 * T_world_palm[:3, 2]
     scene = SnapshotScene(
-        urdf_path=robot.urdf_path,
+        model=robot.model,
         T_world_root=np.eye(4),
         palm_frame=hand.palm_frame,
         finger_of_link=hand.finger_of_link(),

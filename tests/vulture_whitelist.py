@@ -11,6 +11,7 @@ from graspframe_landmarks.features import FEATURE_NAMES
 from graspframe_sapien.drivers import SapienArmDriver, SapienHandDriver
 from graspframe_sapien.world import SapienWorld
 
+from graspframe.convex import ConvexPieces
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.drivers import ArmDriver
@@ -56,7 +57,12 @@ Register.__call__
 ArmDriver.joint_velocities
 SapienArmDriver.joint_velocities
 
+# SAPIEN's URDF loader reads these while parsing model text (graspframe_sapien.articulation).
+sapien.wrapper.urdf_loader.URDFLoader.package_dir
+sapien.wrapper.urdf_loader.URDFLoader.ignore_pairs
+
 # Public helpers the tests use and the documentation names.
+ConvexPieces.method
 HumanGrasp.cutkosky_number
 HumanGrasp.volar_for_human
 VirtualFingerGrasp.touching_real_fingers

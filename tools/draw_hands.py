@@ -38,7 +38,7 @@ def shape_faces(shape, T) -> np.ndarray:
 
 
 def draw(hand, preshape, path: Path) -> None:
-    model = CollisionModel(hand.model_path)
+    model = CollisionModel(hand.urdf())
     finger_of_link = hand.finger_of_link()
     colours = {f: FINGER_COLOURS[i % len(FINGER_COLOURS)] for i, f in enumerate(hand.real_fingers)}
     colours[PALM] = PALM_COLOUR

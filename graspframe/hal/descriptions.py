@@ -20,6 +20,20 @@ from graspframe.errors import DescriptionError, UnknownNameError
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.objects import SHAPES
 from graspframe.transforms import as_pose
+from graspframe.urdf_model import FrameOffset, UrdfModel, description_model
+
+__all__ = [
+    "AdapterShape",
+    "ArmDescription",
+    "Coupling",
+    "DesignObject",
+    "DriveGains",
+    "FrameOffset",
+    "HandDescription",
+    "HandPreshape",
+    "JointSpec",
+    "Mounting",
+]
 
 
 @dataclass(frozen=True)
@@ -213,7 +227,8 @@ class Mounting:
 class HandDescription:
     """A robot (or human) hand.
 
-    model_path: URDF file of the hand alone, its root link at the mounting interface.
+    model_path: URDF file of the hand alone, as shipped (meshes, visuals, package://
+        names: graspframe/urdf_model.py), its root link at the mounting interface.
     root_link: the link that is fixed to an arm flange (or floats freely).
     joints: every actuated joint, followers of in-model couplings excluded.
     couplings: joint couplings (see `Coupling`).
@@ -229,6 +244,10 @@ class HandDescription:
     mountings: name -> `Mounting`: adapters the planner may put between the arm flange
         and the hand, in this order, when the arm finds no path with the hand's root link
         bolted straight onto the flange (graspframe/strategy/arm_path.py).
+    packages: package name -> folder, for package:// mesh names in the model file.
+    frames: frames the model file lacks (palm frame, palm pad, fingertips), by name,
+        each fixed to an existing link at an offset; the names may be used wherever a
+        link name is (palm_frame, palm_sensor_link, real_fingers).
     """
 
     name: str
@@ -246,10 +265,16 @@ class HandDescription:
     summary: str = ""
     extras: Mapping[str, object] = field(default_factory=dict)
     mountings: Mapping[str, Mounting] = field(default_factory=dict)
+    packages: Mapping[str, Path] = field(default_factory=dict)
+    frames: Mapping[str, FrameOffset] = field(default_factory=dict)
 
     @property
     def joint_names(self) -> tuple[str, ...]:
         return tuple(j.name for j in self.joints)
+
+    def urdf(self) -> UrdfModel:
+        """The hand's model as every tool loads it (read once per process)."""
+        return description_model(self.model_path, self.packages, self.frames)
 
     def mounting(self, name: str) -> Mounting:
         try:
@@ -304,13 +329,21 @@ class HandDescription:
 class ArmDescription:
     """A robot arm.
 
-    model_path: URDF file of the arm, base link first.
+    model_path: URDF file of the arm, as shipped (graspframe/urdf_model.py).
     base_link: the link fixed to the world.
-    flange_link: the tool flange link; a hand's root link is fixed to it.
+    flange_link: the tool flange link (+z out of the flange); a hand's root link is
+        fixed to it. Every link the file has beyond it (a vendor's own gripper) is
+        dropped; when it is one of `frames`, everything beyond that frame's parent.
     joints: the arm joints in chain order, with position, velocity, acceleration and
         jerk limits (ruckig needs all four).
     home_q: [rad] a comfortable configuration to start from, one value per joint.
     drive: PD gains for the simulated joint drives.
+    packages: package name -> folder, for package:// mesh names in the model file.
+    frames: frames the model file lacks (e.g. the flange), each fixed to an existing
+        link at an offset.
+    name_prefix: put before every link and joint name of the model file (set by
+        `with_name_prefix` when a hand mounted on the arm has names of its own arm's);
+        every name in this description already includes it.
     """
 
     name: str
@@ -322,10 +355,38 @@ class ArmDescription:
     drive: DriveGains
     payload: float = 0.0
     summary: str = ""
+    packages: Mapping[str, Path] = field(default_factory=dict)
+    frames: Mapping[str, FrameOffset] = field(default_factory=dict)
+    name_prefix: str = ""
 
     @property
     def joint_names(self) -> tuple[str, ...]:
         return tuple(j.name for j in self.joints)
+
+    def urdf(self) -> UrdfModel:
+        """The arm's model as every tool loads it, cut at the flange (read once per
+        process)."""
+        offset = self.frames.get(self.flange_link)
+        cut_below = self.flange_link if offset is None else offset.parent
+        return description_model(
+            self.model_path, self.packages, self.frames, cut_below, self.name_prefix
+        )
+
+    def with_name_prefix(self, prefix: str) -> ArmDescription:
+        """The same arm with `prefix` before every link and joint name."""
+        from dataclasses import replace
+
+        def renamed(offset: FrameOffset) -> FrameOffset:
+            return replace(offset, parent=prefix + offset.parent)
+
+        return replace(
+            self,
+            base_link=prefix + self.base_link,
+            flange_link=prefix + self.flange_link,
+            joints=tuple(replace(j, name=prefix + j.name) for j in self.joints),
+            frames={prefix + name: renamed(f) for name, f in self.frames.items()},
+            name_prefix=self.name_prefix + prefix,
+        )
 
     @property
     def dof(self) -> int:

@@ -37,7 +37,6 @@ from __future__ import annotations
 import math
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from types import MappingProxyType
 
 import numpy as np
@@ -46,9 +45,10 @@ from numpy.typing import ArrayLike, NDArray
 from graspframe.defaults import TABLE_HALF_SIZE
 from graspframe.errors import GraspframeError, UnknownNameError
 from graspframe.hal.objects import SHAPES, ObjectDescription
-from graspframe.robot_model import load_pinocchio_model
+from graspframe.robot_model import collision_geometry, load_pinocchio_model
 from graspframe.shapes import coal_geometry
 from graspframe.transforms import as_pose, inv_T, make_T
+from graspframe.urdf_model import UrdfModel
 
 DEFAULT_MARGIN = 0.005  # [m] a robot link closer than this to an obstacle collides
 TABLE = "table"
@@ -154,10 +154,10 @@ class Collision:
 
 
 class RobotCollisionChecker:
-    """Collision shapes of one robot URDF placed at T_world_root, against world obstacles.
+    """Collision shapes of one robot model placed at T_world_root, against world obstacles.
 
-    urdf_path: the robot (hand alone, or a `MountedRobot.urdf_path`); its root link is
-        fixed at T_world_root (4x4, default identity).
+    urdf: the robot model (a hand's `urdf()`, or a `MountedRobot.model`); its root link
+        is fixed at T_world_root (4x4, default identity).
     obstacles: world-fixed primitives with distinct names.
     margin: [m] a link closer than this to an obstacle collides (>= 0).
     ignore: pairs that are never checked, each either a link name (that link against
@@ -169,7 +169,7 @@ class RobotCollisionChecker:
 
     def __init__(
         self,
-        urdf_path: Path | str,
+        urdf: UrdfModel,
         T_world_root: ArrayLike | None = None,
         obstacles: Sequence[Obstacle] = (),
         margin: float = DEFAULT_MARGIN,
@@ -188,10 +188,8 @@ class RobotCollisionChecker:
             raise GraspframeError(f"obstacle names must be distinct, got {', '.join(names)}")
         self.obstacle_names = tuple(names)
 
-        self.model = load_pinocchio_model(urdf_path, mimic=False)
-        self.geometry = pin.buildGeomFromUrdf(
-            self.model, str(urdf_path), pin.GeometryType.COLLISION
-        )
+        self.model = load_pinocchio_model(urdf, mimic=False)
+        self.geometry = collision_geometry(urdf, self.model)
         self.links = tuple(f.name for f in self.model.frames if f.type == pin.FrameType.BODY)
         robot_shapes = [
             (index, self.model.frames[g.parentFrame].name)

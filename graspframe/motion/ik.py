@@ -29,6 +29,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -146,12 +147,16 @@ class IkSolver:
         self.upper = np.array([j.upper for j in self.arm.joints])  # [rad]
         self.home_q = self._check_q_arm(self.arm.home_q, "arm.home_q")
 
-        self._model = placo.RobotWrapper(str(robot.urdf_path), placo.Flags.ignore_collisions)
+        # placo reads the model text; the folder is only where it would look for meshes,
+        # which the text names by absolute path.
+        self._model = placo.RobotWrapper(
+            str(Path.cwd()), placo.Flags.ignore_collisions, robot.model.text
+        )
         model_joints = set(self._model.joint_names())
         missing = [n for n in self.arm.joint_names if n not in model_joints]
         if missing:
             raise GraspframeError(
-                f"{robot.name}: arm joints {', '.join(missing)} are not in {robot.urdf_path}"
+                f"{robot.name}: arm joints {', '.join(missing)} are not in its model"
             )
         self._hand_joints = [n for n in self._model.joint_names() if n not in self.arm.joint_names]
         self._arm_index = np.array([self._model.get_joint_offset(n) for n in self.arm.joint_names])

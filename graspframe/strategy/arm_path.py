@@ -133,7 +133,7 @@ def path_problem(
         return f"unreachable: {exc}"
 
     checker = RobotCollisionChecker(
-        robot.urdf_path,
+        robot.model,
         T_world_base,
         [
             table_obstacle(table_height, plan.T_world_object_est[:2, 3]),
@@ -142,7 +142,7 @@ def path_problem(
     )
     full_hand_q = hand.with_model_followers(q_hand)
     hand_links = {link for links in hand.real_fingers.values() for link in links}
-    arm_links = summarize_urdf(str(robot.urdf_path)).links - hand_links
+    arm_links = summarize_urdf(robot.model).links - hand_links
 
     def configurations(path):
         return [{**dict(zip(arm.joint_names, q, strict=True)), **full_hand_q} for q in path]

@@ -24,6 +24,7 @@ from graspframe.hal.objects import ObjectDescription
 from graspframe.robot_model import CollisionModel
 from graspframe.shapes import coal_geometry, geometry_mesh
 from graspframe.transforms import inv_T
+from graspframe.urdf_model import UrdfModel
 
 SWEEP_SAMPLES = 16  # configurations between open and closed
 RING_SECTIONS = 12  # sides of a cylinder's mesh: its rims are sampled at 30 deg
@@ -42,8 +43,8 @@ def shape_points(shape, T) -> np.ndarray:
 
 
 @functools.lru_cache(maxsize=16)
-def _collision_model(model_path: str) -> CollisionModel:
-    return CollisionModel(model_path)
+def _collision_model(model: UrdfModel) -> CollisionModel:
+    return CollisionModel(model)
 
 
 def _interpolate(preshape: HandPreshape, s: float, frozen: Mapping[str, float]) -> dict:
@@ -84,7 +85,7 @@ def closing_configurations(
     at T_palm_object, each real finger stops where one of its links first touches it."""
     import coal
 
-    model = _collision_model(str(hand.model_path))
+    model = _collision_model(hand.urdf())
     finger_joints = _joints_of_fingers(hand, model)
     finger_of_link = hand.finger_of_link()
     geometry = None
@@ -128,7 +129,7 @@ def lowest_hand_point(
 ) -> float:
     """[m] the lowest world height of any hand shape over the configurations, relative
     to the palm origin (negative: below it), with the palm turned by R_world_palm."""
-    model = _collision_model(str(hand.model_path))
+    model = _collision_model(hand.urdf())
     lowest = np.inf
     for q in configurations:
         model.place(q)

@@ -35,13 +35,13 @@ import numpy as np
 
 from graspframe.contacts import OBJECT, Contact
 from graspframe.errors import InputError
+from graspframe.files import cache_dir
 from graspframe.floating_base import mount_floating
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import Backend, WorldConfig
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
-from graspframe.mounting import cache_dir
 from graspframe.results import read_json_file, write_json
 from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
 from graspframe.strategy import held_test
@@ -210,7 +210,7 @@ def _draw(
     moments: list[Snapshot],
 ) -> None:
     scene = scene_of_robot(
-        robot.urdf_path, config.T_world_arm_base, config.hand, config.object, config.table_height
+        robot.model, config.T_world_arm_base, config.hand, config.object, config.table_height
     )
     verdict = "held" if held.held else f"not held: {held.failure}"
     title = f"human {reference.grasp.value}, {reference.object_name}; {verdict}"
@@ -253,7 +253,7 @@ def human_reference(
     use_cache: bool = True,
 ) -> HumanReference:
     """The simulated human reference with its picture, from the cache when it holds it."""
-    path = cache_dir().parent / "human_references" / f"{_cache_key(grasp, obj, human)}.json"
+    path = cache_dir("human_references") / f"{_cache_key(grasp, obj, human)}.json"
     if use_cache and path.is_file():
         return _load_cached(path, obj)
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -72,11 +72,14 @@ def _drive_problems(drive: DriveGains) -> list[str]:
 
 
 def _model_problems(
-    model_path, joints: tuple[JointSpec, ...], links: list[tuple[str, str]]
+    description: HandDescription | ArmDescription,
+    joints: tuple[JointSpec, ...],
+    links: list[tuple[str, str]],
 ) -> list[str]:
-    """Joints and links against the URDF. links: (role, link name) pairs."""
+    """Joints and links against the model. links: (role, link name) pairs."""
     try:
-        urdf = summarize_urdf(str(model_path))
+        model = description.urdf()
+        urdf = summarize_urdf(model)
     except GraspframeError as exc:
         return [str(exc)]
     problems = []
@@ -85,7 +88,7 @@ def _model_problems(
         if found is None:
             problems.append(
                 f"joint {joint.name!r} is not a movable joint of the model "
-                f"{model_path.name}; it has: {', '.join(sorted(urdf.joints))}"
+                f"{model.describe()}; it has: {', '.join(sorted(urdf.joints))}"
             )
             continue
         if (
@@ -98,7 +101,7 @@ def _model_problems(
             )
     for role, link in links:
         if link not in urdf.links:
-            problems.append(f"{role} {link!r} is not a link of the model {model_path.name}")
+            problems.append(f"{role} {link!r} is not a link of the model {model.describe()}")
     return problems
 
 
@@ -178,18 +181,18 @@ def hand_problems(hand: HandDescription) -> list[str]:
     named_links += [
         (f"link of real finger {f!r}", link) for f, ls in hand.real_fingers.items() for link in ls
     ]
-    problems += _model_problems(hand.model_path, hand.joints, named_links)
+    problems += _model_problems(hand, hand.joints, named_links)
     # The palm direction needs only the model, its palm frame and palm links: check it
     # also when the joints are wrong, so that one run names every defect.
-    if _model_has_links(hand.model_path, {hand.palm_frame, *hand.real_fingers.get(PALM, ())}):
+    if _model_has_links(hand, {hand.palm_frame, *hand.real_fingers.get(PALM, ())}):
         problems += palm_direction_problems(hand)
     return problems
 
 
-def _model_has_links(model_path, links: set[str]) -> bool:
+def _model_has_links(hand: HandDescription, links: set[str]) -> bool:
     """True when the model loads and has all these links."""
     try:
-        return links <= summarize_urdf(str(model_path)).links
+        return links <= summarize_urdf(hand.urdf()).links
     except GraspframeError:
         return False
 
@@ -198,7 +201,7 @@ def palm_direction_problems(hand: HandDescription) -> list[str]:
     """The palm frame's +z must point out of the palm: a point PALM_PROBE_OUT in front of
     the palm surface is in free space, a point PALM_PROBE_IN behind it is in a palm link."""
     try:
-        model = CollisionModel(hand.model_path)
+        model = CollisionModel(hand.urdf())
     except GraspframeError as exc:
         return [str(exc)]
     T_root_palm = model.T_root_frame(hand.palm_frame)
@@ -235,7 +238,7 @@ def arm_problems(arm: ArmDescription) -> list[str]:
             if not joint.contains(q):
                 problems.append(f"home_q puts {joint.name!r} at {q:.4f} rad, outside its limits")
     links = [("base link", arm.base_link), ("flange link", arm.flange_link)]
-    problems += _model_problems(arm.model_path, arm.joints, links)
+    problems += _model_problems(arm, arm.joints, links)
     return problems
 
 
@@ -291,7 +294,7 @@ CONTRACT_T_WORLD_ARM_BASE = make_T(p=[-0.05, 0.02, 0.0])
 def _mounted_palm_problems(world, robot, T_world_arm_base) -> list[str]:
     """The measured palm pose against the mounted model's forward kinematics at the
     measured joints."""
-    model = CollisionModel(robot.urdf_path)
+    model = CollisionModel(robot.model)
     q = robot.hand.with_model_followers(world.hand.joint_positions())
     q.update(zip(robot.arm.joint_names, world.arm.joint_positions(), strict=True))
     model.place(q)
@@ -302,8 +305,8 @@ def _mounted_palm_problems(world, robot, T_world_arm_base) -> list[str]:
     if error > MOUNTED_PALM_TOL or error_R > MOUNTED_PALM_TOL:
         return [
             f"the palm is {error * 1000:.1f} mm from where the mounted model "
-            f"({robot.urdf_path.name}, hand on the flange at config.robot.T_flange_hand, "
-            "arm base at config.T_world_arm_base) puts it: load config.robot.urdf_path"
+            f"({robot.model.name}, hand on the flange at config.robot.T_flange_hand, "
+            "arm base at config.T_world_arm_base) puts it: load config.robot.model"
         ]
     return []
 

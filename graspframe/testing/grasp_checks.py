@@ -97,7 +97,7 @@ class FingerGap:
 def closing_gaps(hand: HandDescription, preshape: HandPreshape) -> list[FingerGap]:
     """Gaps of the preshape's opposed pairs (or of every pair of real fingers when it
     declares none), open and closed in free space."""
-    model = CollisionModel(hand.model_path)
+    model = CollisionModel(hand.urdf())
     fingers = list(hand.real_fingers)  # the palm opposes the fingers of a power grasp
     pairs = list(preshape.opposed) or list(itertools.combinations(fingers, 2))
     gaps = {}

@@ -216,10 +216,8 @@ class KinematicWorld(World):
     def __init__(self, config: WorldConfig):
         self.config = config
         self._steps = 0
-        urdf_path = config.hand.model_path if config.robot is None else config.robot.urdf_path
-        self._geometry = KinematicGeometry(
-            urdf_path, config.hand, config.object, config.T_world_object
-        )
+        model = config.hand.urdf() if config.robot is None else config.robot.model
+        self._geometry = KinematicGeometry(model, config.hand, config.object, config.T_world_object)
         self.arm = None
         if config.robot is not None:
             self._geometry.T_world_root = as_pose(config.T_world_arm_base, "T_world_arm_base")

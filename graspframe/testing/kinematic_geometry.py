@@ -5,7 +5,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
@@ -15,6 +14,7 @@ from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.collision import object_obstacle
 from graspframe.robot_model import CollisionModel
 from graspframe.transforms import as_pose
+from graspframe.urdf_model import UrdfModel
 
 
 @dataclass(frozen=True)
@@ -35,13 +35,13 @@ class ShapeDistance:
 class KinematicGeometry:
     """The shapes of one model (a hand, or a hand mounted on an arm) and the object.
 
-    urdf_path: the model; its root link is at `T_world_root`. Joints are set by name with
+    model: the robot model; its root link is at `T_world_root`. Joints are set by name with
     `place`; followers of the hand's in-model couplings are set from their leaders.
     """
 
     def __init__(
         self,
-        urdf_path: Path,
+        model: UrdfModel,
         hand: HandDescription,
         obj: ObjectDescription | None,
         T_world_object: NDArray[np.float64],
@@ -50,7 +50,7 @@ class KinematicGeometry:
 
         self._coal = coal
         self.hand = hand
-        self.model = CollisionModel(urdf_path)
+        self.model = CollisionModel(model)
         finger_of_link = hand.finger_of_link()
         self.hand_shapes = tuple(
             i for i, link in enumerate(self.model.link_of_shape) if link in finger_of_link

@@ -84,7 +84,7 @@ class HandModel:
         from graspframe.robot_model import CollisionModel
 
         self.description = default_registry().get_hand("human")
-        self.collision = CollisionModel(self.description.model_path)
+        self.collision = CollisionModel(self.description.urdf())
         meshes = [_coal_mesh(shape) for _, shape, _ in self.collision.shapes()]
         # All shapes' triangles in one array, each shape a slice of it (in shape order),
         # so that posing the hand fills one preallocated array.

@@ -56,7 +56,7 @@ class HumanModelLandmarks:
         from graspframe.robot_model import CollisionModel
 
         self.hand = HUMAN
-        self.model = CollisionModel(HUMAN.model_path)
+        self.model = CollisionModel(HUMAN.urdf())
 
     def posture(self, grasp: HumanGrasp, closure: float) -> dict[str, float]:
         """Joint positions [rad] at `closure` between the grasp's open and closed q."""

@@ -159,7 +159,7 @@ class RunRecording:
             ),
             static=True,
         )
-        model = CollisionModel(data["model_path"])
+        model = CollisionModel(data["model"])
         finger_of_link = self._hand.finger_of_link()
         shape_entities = []
         for index, (link, shape, _) in enumerate(model.shapes()):

@@ -1,21 +1,22 @@
-"""Loading a URDF into a SAPIEN physics-only scene and driving its joints.
+"""Loading a robot model into a SAPIEN physics-only scene and driving its joints.
 
-SAPIEN's renderer needs a GPU, so scenes hold only a PhysX CPU system and models are
-collision-only. <mimic> joints are enforced by SAPIEN's loader; their followers must have
-no drive of their own, or the drive fights the coupling.
+SAPIEN's renderer needs a GPU, so scenes hold only a PhysX CPU system, and the model
+(`UrdfModel`: the URDF text in memory, visuals taken out, collision meshes as convex
+pieces) is given to SAPIEN's URDF parser as text. <mimic> joints are enforced by SAPIEN's
+loader; their followers must have no drive of their own, or the drive fights the
+coupling.
 """
 
 from __future__ import annotations
 
-import xml.etree.ElementTree as ET
 from collections.abc import Mapping
-from pathlib import Path
 
 import numpy as np
 import sapien
 
 from graspframe.errors import DescriptionError
 from graspframe.hal.descriptions import DriveGains
+from graspframe.urdf_model import UrdfModel
 
 # Collision group bit that, with the same g3 id, stops a robot's links colliding with
 # each other: shapes A and B collide iff ((A.g0 & B.g1) or (A.g1 & B.g0)) and not
@@ -31,32 +32,26 @@ def create_scene(timestep: float) -> sapien.Scene:
     return scene
 
 
-def mimic_followers(urdf_path: Path | str) -> dict[str, tuple[str, float, float]]:
-    """follower joint -> (leader, multiplier, offset) for every <mimic> in a URDF."""
-    followers = {}
-    for joint in ET.parse(urdf_path).getroot().iter("joint"):
-        mimic = joint.find("mimic")
-        if mimic is not None:
-            followers[joint.attrib["name"]] = (
-                mimic.attrib["joint"],
-                float(mimic.get("multiplier", 1.0)),
-                float(mimic.get("offset", 0.0)),
-            )
-    return followers
-
-
 def load_articulation(
-    scene: sapien.Scene, urdf_path: Path | str, fix_root: bool, robot_id: int = 1
+    scene: sapien.Scene, model: UrdfModel, fix_root: bool, robot_id: int = 1
 ) -> sapien.physx.PhysxArticulation:
-    """Load a collision-only URDF as one articulation without self-collision."""
+    """Load a robot model as one articulation without self-collision."""
     loader = scene.create_urdf_loader()
     loader.fix_root_link = fix_root
+    # What `loader.parse` sets before parsing a file: no package folder (the model names
+    # its meshes by absolute path), the folder of the source file, no SRDF pairs.
+    loader.package_dir = None
+    loader.urdf_dir = str(model.sources[0].parent) if model.sources else "."
+    loader.ignore_pairs = []
     try:
-        articulation = loader.load(str(urdf_path))
+        builders, actor_builders, _ = loader._parse_urdf(model.text)
+        if len(builders) != 1 or actor_builders:
+            raise DescriptionError(f"the model holds {len(builders)} articulations, not one")
+        articulation = builders[0].build()
     except Exception as exc:
-        raise DescriptionError(f"SAPIEN cannot load {Path(urdf_path).name}: {exc}") from exc
+        raise DescriptionError(f"SAPIEN cannot load {model.describe()}: {exc}") from exc
     if articulation is None:
-        raise DescriptionError(f"SAPIEN loaded no articulation from {Path(urdf_path).name}")
+        raise DescriptionError(f"SAPIEN loaded no articulation from {model.describe()}")
     for link in articulation.get_links():
         for shape in link.get_collision_shapes():
             g0, g1, g2, _ = shape.get_collision_groups()

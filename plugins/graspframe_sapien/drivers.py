@@ -102,7 +102,7 @@ class SapienHandDriver(HandDriver):
         links = {link.name: link for link in articulation.get_links()}
         self._palm_link = links[hand.palm_frame]
         # From the model, not the simulator: link poses are only valid after a step.
-        self._T_root_palm = CollisionModel(hand.model_path).T_root_frame(hand.palm_frame)
+        self._T_root_palm = CollisionModel(hand.urdf()).T_root_frame(hand.palm_frame)
         # Contacts of the first touching step since the last palm sensor reading, and
         # whether any step since then touched a palm link.
         self._first_touch: list[Contact] = []

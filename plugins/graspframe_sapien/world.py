@@ -10,7 +10,6 @@ from graspframe_sapien.articulation import (
     configure_drives,
     create_scene,
     load_articulation,
-    mimic_followers,
     set_qpos_by_name,
 )
 from graspframe_sapien.drivers import SapienArmDriver, SapienHandDriver, SapienObjectProbe
@@ -41,12 +40,12 @@ class SapienWorld(World):
         self.object = SapienObjectProbe(self._object_actor) if self._object_actor else None
 
         hand, arm = config.hand, config.arm
-        urdf_path = hand.model_path if config.robot is None else config.robot.urdf_path
-        self.articulation = load_articulation(self._scene, urdf_path, fix_root=True)
+        model = hand.urdf() if config.robot is None else config.robot.model
+        self.articulation = load_articulation(self._scene, model, fix_root=True)
         for link in self.articulation.get_links():
             link.disable_gravity = True
 
-        followers = mimic_followers(urdf_path)
+        followers = model.mimic_followers
         gains = {name: hand.drive for name in hand.joint_names}
         if arm is not None:
             gains |= {name: arm.drive for name in arm.joint_names}

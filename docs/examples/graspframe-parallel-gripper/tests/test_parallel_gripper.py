@@ -36,7 +36,7 @@ def test_the_installed_plugin_registers_the_hand():
 
 def fingertip_height(q_by_joint: dict[str, float]) -> float:
     """[m] the highest fingertip above the palm surface, along the palm normal (FK)."""
-    model = CollisionModel(HAND.model_path)
+    model = CollisionModel(HAND.urdf())
     model.place(dict(q_by_joint))
     T_palm_root = inv_T(model.T_root_frame(HAND.palm_frame))
     return max((T_palm_root @ model.T_root_frame(tip))[2, 3] for tip in FINGERTIP_LINKS)
