@@ -131,3 +131,9 @@ def coal_geometry(shape: str, dimensions: Mapping[str, float]):
     if shape == "sphere":
         return coal.Sphere(d["radius"])
     raise ValueError(f"unknown primitive {shape!r}; primitives are box, cylinder, sphere")
+
+
+def object_mesh(obj) -> trimesh.Trimesh:
+    """The surface of an object (an `ObjectDescription`) in its object frame [m], as
+    pictures draw it."""
+    return primitive_mesh(obj.shape, obj.dimensions)

@@ -32,7 +32,7 @@ from graspframe.errors import GraspframeError
 from graspframe.events import RunInfo
 from graspframe.grasps import PALM
 from graspframe.robot_model import CollisionModel
-from graspframe.shapes import geometry_mesh, primitive_mesh
+from graspframe.shapes import geometry_mesh, object_mesh
 from graspframe.transforms import quat_xyzw_from_R
 from graspframe_rerun.cycles import MotionCycles, RobotPoser
 
@@ -71,7 +71,7 @@ def _shape_archetype(shape, colour):
 
 
 def _object_archetype(obj, colour=(200, 170, 60)):
-    return _mesh_archetype(primitive_mesh(obj.shape, obj.dimensions), colour)
+    return _mesh_archetype(object_mesh(obj), colour)
 
 
 def _transform(T) -> rr.Transform3D:
