@@ -132,7 +132,9 @@ def _parse_error_mm(text: str) -> tuple[float, float]:
 
 @app.command()
 def run(
-    hand: Annotated[str, typer.Option(help="Robot hand plugin name.")] = DEFAULT_HAND,
+    hand: Annotated[
+        str, typer.Option(help="Robot hand: a registered name or a hand spec file (*.toml).")
+    ] = DEFAULT_HAND,
     grasp: Annotated[
         str | None, typer.Option(help="The human grasp (skips vision), e.g. large_diameter.")
     ] = None,
@@ -143,7 +145,9 @@ def run(
         Path | None, typer.Option(help="Scene file of the image: camera and object poses.")
     ] = None,
     classifier: Annotated[str, typer.Option(help="Classifier plugin name.")] = DEFAULT_CLASSIFIER,
-    arm: Annotated[str, typer.Option(help="Arm plugin name.")] = DEFAULT_ARM,
+    arm: Annotated[
+        str, typer.Option(help="Arm: a registered name or an arm spec file (*.toml).")
+    ] = DEFAULT_ARM,
     object_name: Annotated[
         str | None, typer.Option("--object", help="Object name (default: the grasp's own).")
     ] = None,
@@ -274,12 +278,19 @@ def classify(
 
 
 def _names_option(text: str, kind: str, known: list[str]) -> tuple[str, ...]:
-    """A comma-separated list of names (or "all"), each checked against the known ones."""
+    """A comma-separated list of names (or "all"), each checked against the known ones;
+    for hands, a spec file path (*.toml) is loaded and checked instead."""
+    from graspframe.specs import is_spec_path
+
     if text.strip() == "all":
         return tuple(known)
     names = tuple(n.strip() for n in text.split(",") if n.strip())
     for name in names:
-        if name not in known:
+        if kind == "hand" and is_spec_path(name):
+            from graspframe.registry import default_registry
+
+            default_registry().get_hand(name)  # a spec that does not load fails here
+        elif name not in known:
             from graspframe.errors import UnknownNameError
 
             raise UnknownNameError(kind, name, known)
@@ -300,8 +311,13 @@ def _sizes_option(text: str) -> tuple[int, ...]:
 
 @app.command()
 def evaluate(
-    hands: Annotated[str, typer.Option(help="Comma-separated hands.")] = "barrett,karlsruhe",
+    hands: Annotated[
+        str, typer.Option(help="Comma-separated hands: registered names or spec files (*.toml).")
+    ] = "barrett,karlsruhe",
     grasps: Annotated[str, typer.Option(help="Comma-separated grasps, or 'all'.")] = "all",
+    arm: Annotated[
+        str, typer.Option(help="Arm of the arm mount: a registered name or a spec file (*.toml).")
+    ] = DEFAULT_ARM,
     rho_mm: Annotated[
         float, typer.Option(help="Object position error of experiment B [mm].")
     ] = 50.0,
@@ -343,6 +359,7 @@ def evaluate(
     from graspframe.registry import default_registry
 
     registry = default_registry()
+    registry.get_arm(arm)  # an unknown arm or a spec that does not load fails before any trial
     config = SweepConfig(
         hands=_names_option(hands, "hand", registry.names("hand")),
         grasps=_names_option(grasps, "grasp", [g.value for g in HumanGrasp]),
@@ -357,6 +374,7 @@ def evaluate(
         record=record,
         mounts=_names_option(mount, "mount", list(MOUNTS)),
         sizes=_sizes_option(sizes),
+        arm=arm,
     )
     total = len(plan_trials(config))
     with Progress(
@@ -403,7 +421,7 @@ def review(
 
 @app.command("check-hand")
 def check_hand(
-    name: Annotated[str, typer.Argument(help="A registered hand plugin name.")],
+    name: Annotated[str, typer.Argument(help="A registered hand, or a hand spec file (*.toml).")],
     hold: Annotated[
         bool,
         typer.Option(

@@ -38,7 +38,7 @@ from graspframe.hal.descriptions import (
     JointSpec,
 )
 from graspframe.transforms import R_from_rpy, make_T
-from graspframe.urdf_model import FrameOffset, parse_urdf
+from graspframe.urdf_model import FrameOffset, UrdfModel, description_model
 
 SPEC_SUFFIX = ".toml"
 KINDS = ("hand", "arm")
@@ -193,10 +193,10 @@ def _drive(reader: _Reader, data: Mapping) -> DriveGains:
     return DriveGains(*(reader.number(table, key, "[drive]") for key in DRIVE_KEYS))
 
 
-def _movable_joints(reader: _Reader, urdf: Path) -> tuple[list[str], dict[str, dict]]:
+def _movable_joints(model: UrdfModel) -> tuple[list[str], dict[str, dict]]:
     """(movable joint names in file order, name -> {lower, upper, velocity, effort,
-    mimic}) of the URDF as shipped."""
-    robot = parse_urdf(urdf)
+    mimic}) of a model."""
+    robot = model.root()
     names, info = [], {}
     for joint in robot.findall("joint"):
         if joint.get("type") not in ("revolute", "prismatic", "continuous"):
@@ -227,13 +227,14 @@ def _per_joint(reader: _Reader, table: Mapping, key: str, names: list[str]) -> l
 
 
 def _joints(
-    reader: _Reader, data: Mapping, urdf: Path, need_motion_limits: bool
+    reader: _Reader, data: Mapping, model: UrdfModel, need_motion_limits: bool
 ) -> tuple[tuple[JointSpec, ...], list[Coupling]]:
-    """The driven joints (limits from the URDF, motion limits from the spec) and the
-    URDF's <mimic> couplings."""
+    """The driven joints (limits from the model, motion limits from the spec) and the
+    model's <mimic> couplings."""
     table = reader.table(data, "joints", "the spec")
     reader.keys(table, JOINT_KEYS, "[joints]")
-    movable, info = _movable_joints(reader, urdf)
+    movable, info = _movable_joints(model)
+    urdf = model.sources[0]
     followers = [n for n in movable if info[n]["mimic"] is not None]
     names = table.get("names", [n for n in movable if n not in followers])
     if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
@@ -376,7 +377,10 @@ def _links(reader: _Reader, value: Any, where: str) -> tuple[str, ...]:
 def _hand(reader: _Reader, data: Mapping) -> HandDescription:
     reader.keys(data, HAND_KEYS, "the spec")
     urdf = reader.resolve(reader.text(data, "urdf", "the spec"), "urdf")
-    joints, couplings = _joints(reader, data, urdf, need_motion_limits=False)
+    packages, frames = _packages(reader, data), _frames(reader, data)
+    joints, couplings = _joints(
+        reader, data, description_model(urdf, packages, frames), need_motion_limits=False
+    )
     for table in data.get("couplings", []):
         if not isinstance(table, dict):
             raise reader.fail("[[couplings]] entries must be tables")
@@ -424,8 +428,8 @@ def _hand(reader: _Reader, data: Mapping) -> HandDescription:
         mass=reader.number(data, "mass", "the spec", 0.0),
         summary=str(data.get("summary", "")),
         extras={"fingertip_frames": dict(tips), "spec": str(reader.path)},
-        packages=_packages(reader, data),
-        frames=_frames(reader, data),
+        packages=packages,
+        frames=frames,
     )
     return _with_deltas(reader, hand)
 
@@ -476,7 +480,11 @@ def fingertip_height(
 def _arm(reader: _Reader, data: Mapping) -> ArmDescription:
     reader.keys(data, ARM_KEYS, "the spec")
     urdf = reader.resolve(reader.text(data, "urdf", "the spec"), "urdf")
-    joints, couplings = _joints(reader, data, urdf, need_motion_limits=True)
+    packages, frames = _packages(reader, data), _frames(reader, data)
+    flange = reader.text(data, "flange_link", "the spec")
+    cut_below = frames[flange].parent if flange in frames else flange
+    model = description_model(urdf, packages, frames, cut_below)
+    joints, couplings = _joints(reader, data, model, need_motion_limits=True)
     if couplings:
         raise reader.fail(
             f"the arm joints include <mimic> followers ({couplings[0].follower}); name the "
@@ -492,12 +500,12 @@ def _arm(reader: _Reader, data: Mapping) -> ArmDescription:
         name=reader.text(data, "name", "the spec"),
         model_path=urdf,
         base_link=reader.text(data, "base_link", "the spec"),
-        flange_link=reader.text(data, "flange_link", "the spec"),
+        flange_link=flange,
         joints=joints,
         home_q=home_q,
         drive=_drive(reader, data),
         payload=reader.number(data, "payload", "the spec", 0.0),
         summary=str(data.get("summary", "")),
-        packages=_packages(reader, data),
-        frames=_frames(reader, data),
+        packages=packages,
+        frames=frames,
     )
