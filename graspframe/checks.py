@@ -1,15 +1,28 @@
-"""`graspframe check-hand NAME`: run the hand contract checks on a registered hand.
+"""`graspframe check-hand NAME|SPEC`: check a hand and say what was checked and measured.
 
-Prints, in plain words, either "hand NAME: all checks passed" with a short summary of the
-hand, or a numbered list of the problems found: the description checks
-(`graspframe.testing.hand_problems`), closing in free space
-(`graspframe.testing.grasp_checks.closing_problems`) and, unless asked not to, the hand
-alone holding its preshapes' design objects in the registered physics backend
-(`hold_problems`). The grasp checks are for robot hands: the human reference hand's
+Three checks, in order, each reported with its verdict and what it measured:
+
+1. the description and its model (`graspframe.testing.hand_problems`: joints and limits
+   against the model, real fingers, couplings, preshapes within limits, the mapping of
+   all six grasps, the palm frame's +z pointing out of the palm);
+2. closing each preshape in free space brings its opposed fingers together
+   (`grasp_checks.closing_gaps`): the gap of every pair, open and closed;
+3. unless asked not to, the hand alone (on the floating base, no arm) holds each
+   preshape's design object through the lift and the pushes of a real run, in the
+   registered physics backend (`grasp_checks.hold_trials`): contacts per real finger,
+   the object's motion in the hand and, for a failed hold, what limited it; a picture of
+   every trial, held or not, is written to the pictures folder.
+
+A check runs only when the ones before it passed (a hand whose model does not load
+cannot be closed). The grasp checks are for robot hands: the human reference hand's
 postures are checked by the reference procedure (graspframe/strategy/human_reference.py).
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
 
 import typer
 
@@ -20,7 +33,38 @@ from graspframe.hal.descriptions import HandDescription, JointSpec
 from graspframe.hal.drivers import Backend
 from graspframe.registry import Registry
 from graspframe.testing import hand_problems
-from graspframe.testing.grasp_checks import closing_problems, hold_problems
+from graspframe.testing.grasp_checks import (
+    OPPOSED_MAX_GAP,
+    HoldTrial,
+    closing_gaps,
+    closing_problems,
+    hold_measures,
+    hold_trials,
+)
+
+
+@dataclass
+class CheckResult:
+    """One check: what it checks, the problems found (none: passed), what it measured,
+    and why it did not run (skipped)."""
+
+    name: str
+    problems: list[str] = field(default_factory=list)
+    measured: list[str] = field(default_factory=list)
+    skipped: str | None = None
+
+    @property
+    def passed(self) -> bool:
+        return self.skipped is None and not self.problems
+
+    def lines(self, number: int) -> list[str]:
+        if self.skipped is not None:
+            return [f"{number}. {self.name}: not run ({self.skipped})"]
+        verdict = "passed" if self.passed else f"FAILED ({len(self.problems)} problems)"
+        lines = [f"{number}. {self.name}: {verdict}"]
+        lines += [f"     {line}" for line in self.measured]
+        lines += [f"     problem: {problem}" for problem in self.problems]
+        return lines
 
 
 def _limits(joint: JointSpec) -> str:
@@ -30,7 +74,10 @@ def _limits(joint: JointSpec) -> str:
 def hand_summary(hand: HandDescription) -> list[str]:
     """A few lines saying what the hand is: joints, real fingers, preshapes, mapping."""
     mapping = ", ".join(f"{g.value} -> {p}" for g, p in hand.grasp_map.items())
-    fingers = ", ".join(f"{f} ({len(links)} links)" for f, links in hand.real_fingers.items())
+    fingers = ", ".join(
+        f"{f} ({len(links)} link{'s' if len(links) != 1 else ''})"
+        for f, links in hand.real_fingers.items()
+    )
     return [
         f"model: {hand.model_path}",
         f"joints ({len(hand.joints)}): {', '.join(_limits(j) for j in hand.joints)}",
@@ -41,39 +88,137 @@ def hand_summary(hand: HandDescription) -> list[str]:
     ]
 
 
+def _description_check(hand: HandDescription) -> CheckResult:
+    return CheckResult(
+        "the description against its model (joints, limits, real fingers, couplings, "
+        "preshapes, the mapping, the palm frame's +z out of the palm)",
+        problems=hand_problems(hand),
+        measured=hand_summary(hand),
+    )
+
+
+def _closing_check(hand: HandDescription) -> CheckResult:
+    result = CheckResult(
+        f"closing in free space brings opposed fingers within {1000 * OPPOSED_MAX_GAP:.0f} mm",
+        problems=closing_problems(hand),
+    )
+    for preshape in hand.preshapes.values():
+        gaps = ", ".join(
+            f"{a}-{b} {1000 * g.open_gap:.0f} -> {1000 * g.closed_gap:.0f} mm"
+            for g in closing_gaps(hand, preshape)
+            for a, b in [g.fingers]
+        )
+        result.measured.append(f"{preshape.name}: {gaps}")
+    return result
+
+
+def _hold_check(
+    hand: HandDescription, backend: Backend, pictures: Path | None, progress: Callable
+) -> CheckResult:
+    result = CheckResult(
+        f"the hand alone holds each preshape's design object ({backend.name} physics: "
+        "approach, close, 5 cm lift, pushes of half its weight)"
+    )
+    missing = [name for name, p in hand.preshapes.items() if p.design_object is None]
+    result.problems += [f"preshape {name!r} declares no design object" for name in missing]
+    trials = hold_trials(hand, backend, progress=progress)
+    held = sum(trial.held for trial in trials)
+    result.measured.append(f"{held} of {len(trials)} held")
+    for trial in trials:
+        result.measured.append(_trial_title(trial))
+        result.measured += [f"  {line}" for line in hold_measures(trial)]
+        if pictures is not None and trial.snapshots:
+            path = _draw_trial(pictures, hand, trial)
+            result.measured.append(f"  picture: {path}")
+        if not trial.held:
+            result.problems.append(
+                f"preshape {trial.preshape!r} ({trial.grasp.value}): {trial.outcome.failure_reason}"
+            )
+    return result
+
+
+def _trial_title(trial: HoldTrial) -> str:
+    use = "volar" if trial.grasp.volar_for_robot else "non-volar"
+    size = ", ".join(f"{k} {1000 * v:.0f} mm" for k, v in trial.obj.dimensions.items())
+    verdict = "held" if trial.held else f"NOT HELD: {trial.outcome.failure_reason}"
+    return (
+        f"{trial.preshape} ({trial.grasp.value}, {use}; {trial.obj.shape} {size}, "
+        f"{1000 * trial.obj.mass:.0f} g): {verdict}"
+    )
+
+
+def _draw_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> Path:
+    from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
+
+    robot = trial.checked.robot
+    scene = scene_of_robot(robot.model, trial.checked.T_world_base, hand, trial.obj, 0.0)
+    frames = [Snapshot.from_event(data, robot.arm.joint_names) for data in trial.snapshots]
+    verdict = "held" if trial.held else f"not held: {trial.outcome.failure_reason}"
+    title = (
+        f"{hand.name} alone, {trial.preshape} ({trial.grasp.value}) on its design object; {verdict}"
+    )
+    folder.mkdir(parents=True, exist_ok=True)
+    return draw_snapshots(
+        folder / f"{trial.preshape}_{trial.grasp.value}.png", scene, frames, title
+    )
+
+
 def check_hand_report(
-    hand: HandDescription, backend: Backend | None = None
+    hand: HandDescription,
+    backend: Backend | None = None,
+    pictures: Path | None = None,
+    progress: Callable[[str], None] = lambda _message: None,
 ) -> tuple[bool, list[str]]:
     """(passed, lines to print) for one hand description; with a backend, the hand
-    alone must also hold its design objects in it."""
-    problems = hand_problems(hand)
-    # The grasp checks need a description that loads; the human reference hand's
-    # postures are checked by the reference procedure instead.
-    if not problems and hand.name != HUMAN_HAND:
-        problems += closing_problems(hand)
-        if not problems and backend is not None:
-            problems += hold_problems(hand, backend)
-    if not problems:
-        summary = [f"  {line}" for line in hand_summary(hand)]
-        return True, [f"hand {hand.name}: all checks passed", *summary]
-    count = f"{len(problems)} problem{'s' if len(problems) > 1 else ''}"
-    listing = [f"  {i}. {problem}" for i, problem in enumerate(problems, start=1)]
-    return False, [f"hand {hand.name}: {count} found", *listing]
+    alone must also hold its design objects in it (pictures of each trial go to the
+    `pictures` folder when one is given)."""
+    checks = [_description_check(hand)]
+    robot_hand = hand.name != HUMAN_HAND
+    reason = "the human hand's postures are checked by the reference procedure"
+    if not checks[-1].passed:
+        reason = "the description check failed"
+    checks.append(_closing_check(hand) if robot_hand and checks[-1].passed else CheckResult(
+        "closing in free space", skipped=reason))  # fmt: skip
+    if backend is None:
+        checks.append(CheckResult("holding the design objects", skipped="--no-hold"))
+    elif robot_hand and checks[-1].passed:
+        checks.append(_hold_check(hand, backend, pictures, progress))
+    else:
+        skipped = reason if not robot_hand or not checks[0].passed else "closing failed"
+        checks.append(CheckResult("holding the design objects", skipped=skipped))
+    passed = all(check.passed or check.skipped for check in checks)
+    ran = sum(check.skipped is None for check in checks)
+    verdict = "all passed" if passed else "FAILED"
+    lines = [f"hand {hand.name}: {ran} of {len(checks)} checks ran, {verdict}"]
+    for number, check in enumerate(checks, start=1):
+        lines += check.lines(number)
+    return passed, lines
 
 
 def check_hand_command(
-    name: str, registry: Registry | None = None, hold: bool = True, backend: str = DEFAULT_BACKEND
+    name: str,
+    registry: Registry | None = None,
+    hold: bool = True,
+    backend: str = DEFAULT_BACKEND,
+    pictures: Path | None = None,
 ) -> int:
-    """Check the registered hand `name`; print the result; 0 if it passed, else 1.
+    """Check the hand `name` (registered, or a spec file); print the result; 0 if it
+    passed, else 1.
 
     registry: where to look the hand up (default: every installed plugin). An unknown
     name raises the registry's UnknownNameError, which lists the known hands.
     hold: also check that the hand alone holds its design objects, in `backend`.
+    pictures: folder for the pictures of the hold trials (default runs/check-hand/NAME).
     """
     registry = registry or registry_module.default_registry()
     hand = registry.get_hand(name)
     physics = registry.get_backend(backend)() if hold else None
-    passed, lines = check_hand_report(hand, physics)
+    folder = pictures or Path("runs") / "check-hand" / hand.name
+
+    def progress(message: str) -> None:
+        typer.echo(f"· {message}", err=True)
+
+    passed, lines = check_hand_report(hand, physics, folder, progress)
     for line in lines:
         typer.echo(line)
     return 0 if passed else 1

@@ -433,11 +433,17 @@ def check_hand(
     backend: Annotated[
         str, typer.Option(help="Physics backend of the hold check.")
     ] = DEFAULT_BACKEND,
+    pictures: Annotated[
+        Path | None,
+        typer.Option(
+            help="Folder for the pictures of the hold check (default runs/check-hand/NAME)."
+        ),
+    ] = None,
 ) -> None:
     """Check a hand plugin against the contract and say, in plain words, what is wrong."""
     from graspframe.checks import check_hand_command
 
-    raise typer.Exit(check_hand_command(name, hold=hold, backend=backend))
+    raise typer.Exit(check_hand_command(name, hold=hold, backend=backend, pictures=pictures))
 
 
 @db_app.command("build")

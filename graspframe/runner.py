@@ -441,14 +441,7 @@ def _draw_snapshots(run_dir, checked, config, snapshots, outcome, grasp) -> str 
     scene = scene_of_robot(
         checked.robot.model, checked.T_world_base, hand, config.object, config.table_height
     )
-    frames = []
-    for data in snapshots:
-        q = dict(data["q_hand"])
-        if data["q_arm"] is not None:
-            q.update(zip(arm.joint_names, data["q_arm"], strict=True))
-        frames.append(
-            Snapshot.with_contacts(data["label"], q, data["T_world_object"], data["contacts"])
-        )
+    frames = [Snapshot.from_event(data, arm.joint_names) for data in snapshots]
     verdict = "held" if outcome.success else f"failed: {outcome.failure_reason}"
     title = (
         f"{hand.name} on {arm.name}: human {grasp.value} -> {checked.plan.preshape}, "

@@ -119,6 +119,15 @@ class Snapshot:
     contact_fingers: Sequence[str] = ()
 
     @classmethod
+    def from_event(cls, data: Mapping, arm_joint_names: Sequence[str]) -> Snapshot:
+        """The moment an execute.snapshot event reported (its data, graspframe/events.py),
+        the arm's joints named in `arm_joint_names` order."""
+        q = dict(data["q_hand"])
+        if data["q_arm"] is not None:
+            q.update(zip(arm_joint_names, data["q_arm"], strict=True))
+        return cls.with_contacts(data["label"], q, data["T_world_object"], data["contacts"])
+
+    @classmethod
     def with_contacts(cls, label: str, q_by_joint, T_world_object, contacts: Sequence) -> Snapshot:
         """The moment with `contacts` (graspframe.contacts.Contact, world frame) drawn."""
         return cls(

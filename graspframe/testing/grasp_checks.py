@@ -18,7 +18,9 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -29,6 +31,10 @@ from graspframe.hal.objects import ObjectDescription
 from graspframe.robot_model import CollisionModel
 from graspframe.strategy.reference_poses import R_object_palm_for_design
 from graspframe.transforms import make_T
+
+if TYPE_CHECKING:  # the executor imports the planner, which imports this package's users
+    from graspframe.strategy.arm_path import CheckedPlan
+    from graspframe.strategy.executor import GraspOutcome
 
 OPPOSED_MAX_GAP = 0.015  # [m] largest gap left between opposing fingers, closed in free space
 OPEN_MIN_GAP = 0.03  # [m] an undeclared pair counts as opposing only from this far apart
@@ -161,9 +167,22 @@ def hand_alone_grasp(
     backend: Backend,
     obj: ObjectDescription | None = None,
     disturb: bool = True,
-):
+) -> GraspOutcome:
     """Plan and execute `grasp` with the hand alone on the floating base, on its design
     object (or `obj`) standing on a table at z = 0; returns the GraspOutcome."""
+    return _hand_alone(hand, grasp, backend, obj, disturb)[0]
+
+
+def _hand_alone(
+    hand: HandDescription,
+    grasp: HumanGrasp,
+    backend: Backend,
+    obj: ObjectDescription | None = None,
+    disturb: bool = True,
+):
+    """(GraspOutcome, the execute.snapshot events' data, the CheckedPlan on the floating
+    base) of `hand_alone_grasp`."""
+    from graspframe.events import EXECUTE_SNAPSHOT
     from graspframe.motion.arm_motion import ArmMotion
     from graspframe.strategy.arm_path import floating_plan
     from graspframe.strategy.executor import ExecutorParams, execute_plan
@@ -183,29 +202,124 @@ def hand_alone_grasp(
         T_world_arm_base=checked.T_world_base,
         T_world_object=T_world_object,
     )
+    snapshots: list[dict] = []
+
+    def emit(kind, **data) -> None:
+        if kind is EXECUTE_SNAPSHOT:
+            snapshots.append(data)
+
     with backend.create_world(config) as world:
         motion = ArmMotion(world, checked.robot, checked.T_world_base)
-        return execute_plan(checked.plan, world, motion, hand, obj, ExecutorParams(disturb=disturb))
+        params = ExecutorParams(disturb=disturb)
+        outcome = execute_plan(checked.plan, world, motion, hand, obj, params, emit=emit)
+    return outcome, snapshots, checked
+
+
+@dataclass(frozen=True)
+class HoldTrial:
+    """The hand alone grasping a preshape's design object: what was grasped, the real
+    fingers meant to touch it (its opposed pairs', else every finger), what happened
+    (`outcome`), and for pictures the execute.snapshot events' data (`snapshots`) and
+    the plan on the floating base it ran (`checked`: a CheckedPlan)."""
+
+    grasp: HumanGrasp
+    preshape: str
+    obj: ObjectDescription
+    fingers: tuple[str, ...]
+    outcome: GraspOutcome
+    snapshots: tuple[dict, ...]
+    checked: CheckedPlan
+
+    @property
+    def held(self) -> bool:
+        return self.outcome.success
+
+
+def hold_trials(
+    hand: HandDescription,
+    backend: Backend,
+    progress: Callable[[str], None] = lambda _message: None,
+) -> list[HoldTrial]:
+    """One hand-alone grasp of its design object per preshape and volar/non-volar use of
+    it (in the order of the grasp map); `progress` hears of each trial as it starts."""
+    trials = []
+    tried = set()
+    for grasp, preshape_name in hand.grasp_map.items():
+        preshape = hand.preshape(preshape_name)
+        key = (preshape_name, grasp.volar_for_robot)
+        if key in tried or preshape.design_object is None:
+            continue
+        tried.add(key)
+        obj = design_object(preshape)
+        progress(f"{preshape_name} ({grasp.value}): the hand alone on its design object")
+        outcome, snapshots, checked = _hand_alone(hand, grasp, backend, obj)
+        fingers = {f for pair in preshape.opposed for f in pair} or set(hand.real_fingers)
+        meant = tuple(f for f in hand.real_fingers if f in fingers and f != PALM)
+        trials.append(
+            HoldTrial(grasp, preshape_name, obj, meant, outcome, tuple(snapshots), checked)
+        )
+    return trials
+
+
+GRAVITY = 9.81  # [m/s^2]
+
+
+def hold_measures(trial: HoldTrial) -> list[str]:
+    """What a trial measured, in words: contacts per real finger at the hold, the
+    object's motion in the hand during the lift and under the pushes, and, when it was
+    not held, what limited it: the fingers that never touched and the squeeze."""
+    outcome = trial.outcome
+    counts: dict[str, int] = {}
+    for contact in outcome.contacts:
+        counts[contact.real_finger] = counts.get(contact.real_finger, 0) + 1
+    listing = ", ".join(f"{finger} {n}" for finger, n in sorted(counts.items())) or "none"
+    lines = [f"contacts per real finger at the hold: {listing}"]
+    if outcome.lift_motion is not None:
+        lines.append(
+            f"lift: the object rose {1000 * outcome.object_rise:.0f} mm of "
+            f"{1000 * outcome.lift_height:.0f} mm and moved "
+            f"{outcome.lift_motion.describe()} in the hand"
+        )
+    if outcome.disturbance:
+        direction, motion = max(outcome.disturbance.items(), key=lambda item: item[1].shift)
+        lines.append(
+            f"pushes: the largest motion in the hand was {motion.describe()} ({direction})"
+        )
+    if trial.held:
+        return lines
+    return lines + _limits(trial, counts)
+
+
+def _limits(trial: HoldTrial, counts: dict[str, int]) -> list[str]:
+    """Why a hold may have failed: fingers that never touched, squeeze against weight."""
+    lines = []
+    missing = [f for f in trial.fingers if f not in counts]
+    if missing:
+        lines.append(f"never touched the object: {', '.join(missing)}")
+    contacts = trial.outcome.contacts
+    squeeze = sum(abs(float(np.dot(c.f, c.n))) for c in contacts)
+    weight = trial.obj.mass * GRAVITY
+    friction = trial.obj.static_friction
+    lines.append(
+        f"squeeze: {squeeze:.1f} N of normal force at the hold; with the object's friction "
+        f"{friction:g} it holds at most {friction * squeeze:.1f} N against the "
+        f"{weight:.1f} N weight (plus half of it when pushed)"
+    )
+    return lines
 
 
 def hold_problems(hand: HandDescription, backend: Backend) -> list[str]:
     """Preshapes whose design object the hand alone does not hold (one trial per
     preshape and volar/non-volar use of it)."""
-    problems = []
-    tried = set()
-    for grasp, preshape_name in hand.grasp_map.items():
-        preshape = hand.preshape(preshape_name)
-        key = (preshape_name, grasp.volar_for_robot)
-        if key in tried:
-            continue
-        tried.add(key)
-        if preshape.design_object is None:
-            problems.append(f"preshape {preshape_name!r} declares no design object to hold")
-            continue
-        outcome = hand_alone_grasp(hand, grasp, backend)
-        if not outcome.success:
+    problems = [
+        f"preshape {name!r} declares no design object to hold"
+        for name in dict.fromkeys(hand.grasp_map.values())
+        if hand.preshape(name).design_object is None
+    ]
+    for trial in hold_trials(hand, backend):
+        if not trial.held:
             problems.append(
-                f"preshape {preshape_name!r} ({grasp.value}): the hand alone does not hold its "
-                f"design object: {outcome.failure_reason}"
+                f"preshape {trial.preshape!r} ({trial.grasp.value}): the hand alone does not "
+                f"hold its design object: {trial.outcome.failure_reason}"
             )
     return problems
