@@ -340,8 +340,11 @@ def _spec_of_kind(path: str, kind: type, what: str) -> Any:
     """The description of a spec file, which must describe a `what`."""
     description = _load_spec(str(Path(path).expanduser().resolve()))
     if not isinstance(description, kind):
-        raise PluginError(f"spec {Path(path).name} describes an {description.__class__.__name__}"
-                          f", not a {what}")  # fmt: skip
+        found = "hand" if isinstance(description, HandDescription) else "arm"
+        raise PluginError(
+            f"spec {Path(path).name} describes a {found} ({description.name}), where {what}s "
+            "are expected"
+        )
     return description
 
 

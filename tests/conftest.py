@@ -21,3 +21,39 @@ def fake_hand_urdf(tmp_path: Path) -> Path:
 @pytest.fixture
 def fake_hand(fake_hand_urdf: Path) -> HandDescription:
     return make_fake_hand(fake_hand_urdf)
+
+
+# Real vendor models and scans, read where they lie (never copied into the project): the
+# folder beside the repository, as CI has it, or /work/shared.
+def _third_party() -> Path | None:
+    for shared in (Path(__file__).resolve().parents[2] / "shared", Path("/work/shared")):
+        if (shared / "third_party").is_dir():
+            return shared / "third_party"
+    return None
+
+
+THIRD_PARTY = _third_party()
+LEAP_HAND_SPEC = Path(__file__).resolve().parents[1] / "docs/examples/hands/leap_hand.toml"
+PANDA_SPEC = Path(__file__).resolve().parents[1] / "docs/examples/arms/panda.toml"
+
+
+def _vendor_dir(*parts: str) -> Path:
+    if THIRD_PARTY is None or not (THIRD_PARTY.joinpath(*parts)).is_dir():
+        pytest.skip("the third-party vendor models are not on this machine")
+    return THIRD_PARTY.joinpath(*parts)
+
+
+@pytest.fixture
+def leap_hand_dir(monkeypatch) -> Path:
+    """The vendor's LEAP hand folder, named by LEAP_HAND_DIR as the spec expects."""
+    folder = _vendor_dir("hands", "leap_hand")
+    monkeypatch.setenv("LEAP_HAND_DIR", str(folder))
+    return folder
+
+
+@pytest.fixture
+def panda_description_dir(monkeypatch) -> Path:
+    """The vendor's Panda description folder, named by PANDA_DESCRIPTION_DIR."""
+    folder = _vendor_dir("arms", "panda", "example-robot-data", "robots", "panda_description")
+    monkeypatch.setenv("PANDA_DESCRIPTION_DIR", str(folder))
+    return folder
