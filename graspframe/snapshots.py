@@ -55,6 +55,7 @@ from graspframe.pictures.sheet import compose, write_png
 from graspframe.transforms import inv_T, transform_points
 from graspframe.urdf_model import UrdfModel
 
+PICTURE_STYLE = 2  # changes with the look of the pictures (cached pictures are redrawn)
 PANEL_PX = 400  # [px] side of a square panel
 FOV_DEG = 30.0  # horizontal field of view of every camera
 FAR_OBJECT = 0.5  # [m] an object further from the palm is left out of the framing

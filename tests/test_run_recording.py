@@ -355,9 +355,7 @@ def _albedo_alpha(path: Path) -> dict[str, int]:
 
 
 @pytest.mark.skipif(not LEAP_URDF.is_file(), reason="the third-party models are not here")
-def test_visual_meshes_are_recorded_with_the_collision_shapes_as_an_overlay(
-    fake_hand, tmp_path
-):
+def test_visual_meshes_are_recorded_with_the_collision_shapes_as_an_overlay(fake_hand, tmp_path):
     can = ObjectDescription("unregistered_can", "cylinder", {"radius": 0.03, "length": 0.1}, 0.2)
     recording = RunRecording(RunInfo("r1", str(tmp_path), {"record": True}, fake_hand, None, can))
     T_world_object = make_T(p=[0.1, 0.0, 0.05])

@@ -160,7 +160,7 @@ def _mesh_file(path: str, modified_ns: int, scale: tuple[float, float, float]):
 
     del modified_ns  # part of the cache key only: a changed file is read again
     try:
-        scene = trimesh.load(path, force="scene")
+        scene = trimesh.load_scene(path)
     except Exception as exc:
         raise DescriptionError(f"cannot read the visual mesh {path}: {exc}") from exc
     parts = [m for m in scene.dump() if isinstance(m, trimesh.Trimesh) and len(m.faces)]
@@ -189,7 +189,7 @@ def visual_surfaces(visual: Visual) -> tuple[Surface, ...]:
         except OSError as exc:
             raise DescriptionError(f"link {visual.link!r}: visual mesh {path}: {exc}") from exc
         scale = tuple(float(s) for s in visual.scale)
-        parts = _mesh_file(str(path), modified_ns, scale)  # type: ignore[arg-type]
+        parts = _mesh_file(str(path), modified_ns, scale)
         return tuple(
             Surface(
                 transform_points(visual.T_link_visual, part.vertices).reshape(-1, 3),

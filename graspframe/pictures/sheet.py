@@ -3,7 +3,7 @@ each row, a legend below, written as a PNG atomically.
 
 Markers on a panel (contacts, arrows) are drawn with OpenCV, anti-aliased, in the
 panel's pixels; text with Pillow's built-in scalable font. No matplotlib: a sheet of nine
-400 px panels is composed and encoded in a few tens of milliseconds.
+400 px panels is composed in a few tens of milliseconds and written in about 0.2 s.
 """
 
 from __future__ import annotations
@@ -26,6 +26,13 @@ ROW_LABEL_WIDTH = 28  # [px] the rotated row label's band
 LEGEND_SWATCH = 14  # [px]
 CONTACT_RADIUS = 5  # [px]
 ARROW_WIDTH = 2  # [px]
+PALETTE_COLOURS = 256  # of a written PNG
+PANEL_EDGE = (190, 190, 190)  # RGB of the line around each panel
+KEPT_COLOURS = (
+    "#000000", "#ffffff", style.CONTACT_COLOUR, style.PALM_Z_COLOUR, style.PALM_X_COLOUR,
+    style.BACKGROUND, *style.FINGER_COLOURS, style.PALM_COLOUR, style.ARM_COLOUR,
+    style.OBJECT_COLOUR,
+)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -70,19 +77,6 @@ def draw_arrow(panel: NDArray[np.uint8], start, end, colour: str) -> None:
     b = (round(end[0] * 16), round(end[1] * 16))
     tip = min(0.45, 9.0 / length)
     cv2.arrowedLine(panel, a, b, bgr, ARROW_WIDTH, cv2.LINE_AA, 4, tip)
-
-
-def draw_label(panel: NDArray[np.uint8], text: str) -> None:
-    """A short caption in the panel's top-left corner, on a pale band."""
-    from PIL import Image, ImageDraw
-
-    font = _font(LABEL_PX - 2)
-    image = Image.fromarray(panel[..., ::-1])
-    draw = ImageDraw.Draw(image, "RGBA")
-    left, top, right, bottom = draw.textbbox((6, 4), text, font=font)
-    draw.rectangle((left - 4, top - 3, right + 4, bottom + 3), fill=(255, 255, 255, 190))
-    draw.text((6, 4), text, font=font, fill=(40, 40, 40))
-    panel[:] = np.asarray(image)[..., ::-1]
 
 
 def _font(size: int):
@@ -170,6 +164,7 @@ def compose(
         for column in range(n_columns):
             left = grid_left + column * (panel_w + GAP)
             sheet.paste(Image.fromarray(panels[row][column][..., ::-1]), (left, top))
+            draw.rectangle((left - 1, top - 1, left + panel_w, top + panel_h), outline=PANEL_EDGE)
         if row < len(row_labels):
             label = Image.new("RGB", (panel_h, ROW_LABEL_WIDTH), "white")
             ImageDraw.Draw(label).text(
@@ -211,12 +206,24 @@ def _legend_swatch(draw, entry: LegendEntry, x: float, y: float) -> None:
 
 
 def write_png(path: Path, image: NDArray[np.uint8]) -> Path:
-    """Write a BGR image as a PNG, atomically; returns the path. The folder is created."""
+    """Write a BGR image as a PNG of at most PALETTE_COLOURS colours, atomically; returns
+    the path. The folder is created.
+
+    The palette: the exact marker and text colours (KEPT_COLOURS: a contact stays pure
+    red), the rest a median-cut palette of the image; Floyd-Steinberg dithered so that
+    shading shows no bands. A third of the size of a full-colour PNG of a rendered sheet.
+    """
+    from PIL import Image
+
     path = Path(path)
-    ok, encoded = cv2.imencode(".png", image, [cv2.IMWRITE_PNG_COMPRESSION, 3])
-    if not ok:
-        raise OSError(f"cannot encode {path.name} as PNG")
+    rgb = Image.fromarray(np.ascontiguousarray(image[..., ::-1]))
+    kept = [round(255 * c) for colour in KEPT_COLOURS for c in style.rgb(colour)]
+    cut = rgb.quantize(PALETTE_COLOURS - len(KEPT_COLOURS), method=Image.Quantize.MEDIANCUT)
+    cut_palette = cut.getpalette() or []
+    palette = Image.new("P", (1, 1))
+    palette.putpalette(kept + cut_palette[: 3 * (PALETTE_COLOURS - len(KEPT_COLOURS))])
+    paletted = rgb.quantize(palette=palette, dither=Image.Dither.FLOYDSTEINBERG)
     path.parent.mkdir(parents=True, exist_ok=True)
     with atomic_output(path) as stream:
-        stream.write(encoded.tobytes())
+        paletted.save(stream, format="PNG", compress_level=6)
     return path

@@ -78,7 +78,7 @@ def _surface_archetype(surface: Surface, colour, alpha: int = 255) -> rr.Mesh3D:
     """A link's mesh in the link frame, `colour` (0..255 RGB) tinted by the mesh's own
     material colour; alpha < 255: see-through."""
     base = tuple(c / 255.0 for c in colour)
-    rgb = tinted(base, surface.rgb)  # type: ignore[arg-type]
+    rgb = tinted(base, surface.rgb)
     return rr.Mesh3D(
         vertex_positions=surface.vertices,
         triangle_indices=surface.faces,
