@@ -8,9 +8,10 @@ A `View` is a pinhole camera (OpenCV frame: x right, y down, z forward) with a p
 the world; `look_at` and `fit_view` aim it.
 
 Translucency in two passes: the solid soups alone, then the solid and translucent soups
-together; the two images are mixed at the translucent opacity. Where a translucent soup
-is the nearest surface, the picture shows it over what lies behind it (one layer deep);
-elsewhere both passes are the same image.
+together (only over the translucent soups' bounding box); the two images are mixed at
+the translucent opacity. Where a translucent soup is the nearest surface, the picture
+shows it over what lies behind it (one layer deep); elsewhere both passes are the same
+image.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from numpy.typing import NDArray
 
 from graspframe.pictures.meshes import vertex_normals
 from graspframe.transforms import inv_T
-from graspframe.vision.render import Camera, Lighting, Renderer, composite
+from graspframe.vision.render import NEAR, Camera, Lighting, Renderer, composite
 
 CREASE_DEG = 35.0  # corners of faces meeting at more than this keep their own normal
 MIN_VIEW_DISTANCE = 0.12  # [m] closest a fitted camera comes to its target
@@ -163,15 +164,46 @@ def render(
     c = view.camera
     background = np.empty((c.height, c.width, 3), dtype=np.uint8)
     background[:] = np.asarray(background_bgr, dtype=np.uint8)
-    T_camera_world = inv_T(view.T_world_camera)
     solid = [p for p in placed if not p.translucent]
-    image = _draw(solid, T_camera_world, view, background)
+    image = _draw(solid, view, background)
     translucent = [p for p in placed if p.translucent]
-    if not translucent:
+    region = _region(translucent, view)
+    if region is None:
         return image
-    both = _draw(solid + translucent, T_camera_world, view, background)
-    mixed = (1 - translucent_opacity) * image.astype(np.float32) + translucent_opacity * both
-    return np.clip(mixed + 0.5, 0, 255).astype(np.uint8)
+    # The second pass only where the translucent soups can be: a camera cropped to their
+    # bounding box (same intrinsics, shifted by whole pixels: the same samples).
+    x0, y0, x1, y1 = region
+    crop = View(Camera(x1 - x0, y1 - y0, c.fx, c.fy, c.cx - x0, c.cy - y0), view.T_world_camera)
+    both = _draw(solid + translucent, crop, background[y0:y1, x0:x1])
+    mixed = (1 - translucent_opacity) * image[y0:y1, x0:x1].astype(np.float32)
+    mixed += translucent_opacity * both
+    image[y0:y1, x0:x1] = np.clip(mixed + 0.5, 0, 255).astype(np.uint8)
+    return image
+
+
+def _region(placed: Sequence[Placed], view: View) -> tuple[int, int, int, int] | None:
+    """(x0, y0, x1, y1) pixel bounds of the soups' bounding boxes in the view (the whole
+    picture when one reaches behind the camera), None when there is nothing to draw."""
+    if not placed:
+        return None
+    c = view.camera
+    corners = []
+    for item in placed:
+        low, high = item.soup.positions.min(axis=0), item.soup.positions.max(axis=0)
+        box = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1])
+                        for z in (low[2], high[2])], dtype=float)  # fmt: skip
+        T = item.T_world_soup
+        corners.append(box @ T[:3, :3].T + T[:3, 3])
+    pixels, depth = view.project(np.concatenate(corners))
+    if np.any(depth <= NEAR):
+        return 0, 0, c.width, c.height
+    x0, y0 = np.floor(pixels.min(axis=0)).astype(int) - 1
+    x1, y1 = np.ceil(pixels.max(axis=0)).astype(int) + 1
+    x0, y0 = max(int(x0), 0), max(int(y0), 0)
+    x1, y1 = min(int(x1), c.width), min(int(y1), c.height)
+    if x1 <= x0 or y1 <= y0:
+        return None
+    return x0, y0, x1, y1
 
 
 def visible(
@@ -208,8 +240,8 @@ def visible(
     return in_sight
 
 
-def _draw(placed, T_camera_world, view: View, background) -> NDArray[np.uint8]:
-    positions, normals, albedo = _in_camera(placed, T_camera_world)
+def _draw(placed, view: View, background) -> NDArray[np.uint8]:
+    positions, normals, albedo = _in_camera(placed, inv_T(view.T_world_camera))
     if not len(positions):
         return background.copy()
     bgr, alpha = renderer().render(view.camera, positions, normals, albedo, LIGHTING)
