@@ -56,7 +56,7 @@ from graspframe.transforms import inv_T, transform_points
 from graspframe.urdf_model import UrdfModel
 
 PICTURE_STYLE = 2  # changes with the look of the pictures (cached pictures are redrawn)
-PANEL_PX = 400  # [px] side of a square panel
+PANEL_PX = 360  # [px] side of a square panel
 FOV_DEG = 30.0  # horizontal field of view of every camera
 FAR_OBJECT = 0.5  # [m] an object further from the palm is left out of the framing
 NEAR_HAND = 0.10  # [m] arm links with a vertex this close to the palm origin are drawn (the wrist)

@@ -3,7 +3,7 @@ each row, a legend below, written as a PNG atomically.
 
 Markers on a panel (contacts, arrows) are drawn with OpenCV, anti-aliased, in the
 panel's pixels; text with Pillow's built-in scalable font. No matplotlib: a sheet of nine
-400 px panels is composed in a few tens of milliseconds and written in about 0.2 s.
+360 px panels is composed in a few tens of milliseconds and written in about 0.1 s.
 """
 
 from __future__ import annotations
@@ -228,5 +228,5 @@ def write_png(path: Path, image: NDArray[np.uint8]) -> Path:
     paletted = rgb.quantize(palette=palette, dither=Image.Dither.FLOYDSTEINBERG)
     path.parent.mkdir(parents=True, exist_ok=True)
     with atomic_output(path) as stream:
-        paletted.save(stream, format="PNG", compress_level=6)
+        paletted.save(stream, format="PNG", compress_level=3)
     return path
