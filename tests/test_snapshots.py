@@ -204,6 +204,8 @@ def test_bad_input_raises_one_line_input_errors(tmp_path: Path, barrett_scene):
     _one_line_input_error(path, not_an_object, moments, "must be an ObjectDescription, got str")
     bad_palm = SnapshotScene(**{**scene.__dict__, "palm_frame": "no_such_frame"})
     _one_line_input_error(path, bad_palm, moments, "palm frame 'no_such_frame' is not in")
+    no_fingers = SnapshotScene(**{**scene.__dict__, "finger_of_link": {"nowhere": PALM}})
+    _one_line_input_error(path, no_fingers, moments, "no link of the hand's real fingers")
     unknown_joint = Snapshot("hold", {"no_such_joint": 0.1}, good.T_world_object)
     _one_line_input_error(path, scene, [unknown_joint], "'hold'.*no_such_joint")
     bad_pose = Snapshot("hold", good.q_by_joint, np.eye(3))

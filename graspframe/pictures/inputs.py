@@ -58,8 +58,8 @@ def checked_object_soup(obj, what: str) -> Soup:
 
 
 def checked_figure(model, finger_of_link, colours, palm_frame: str, what: str):
-    """A RobotFigure of `model` (robot_scene.py) that has the frame `palm_frame`;
-    InputError naming `what` when the model cannot be loaded or lacks the frame."""
+    """A RobotFigure of `model` (robot_scene.py) that has the frame `palm_frame` and
+    some hand link to draw; InputError naming `what` otherwise."""
     from graspframe.pictures.robot_scene import RobotFigure
 
     try:
@@ -68,4 +68,9 @@ def checked_figure(model, finger_of_link, colours, palm_frame: str, what: str):
         raise InputError(f"{what}: {exc}") from None
     if not figure.has_frame(palm_frame):
         raise InputError(f"palm frame {palm_frame!r} is not in {model.describe()}")
+    if not any(figure.is_hand_link(link) for link in figure.soups):
+        raise InputError(
+            f"{what}: no link of the hand's real fingers is a link of {model.describe()} "
+            "with a shape to draw"
+        )
     return figure
