@@ -8,7 +8,8 @@ by its contact count per real finger; one row per view, each a perspective rende
 - side: from the palm's -y side (square to the plane the fingers curl in; from its +y
   side when the arm would stand between), 20 deg above the horizontal, world z up;
 - above: from 60 deg above the table, behind the back of the hand (or, for a hand that
-  faces down, behind the wrist), world z up: how the fingers reach around the object;
+  faces down, behind the wrist; turned 60 deg aside when the arm would stand in the
+  way), world z up: how the fingers reach around the object;
 - palm: in the palm frame of each moment, looking at the palm from the object's side,
   fingertips (palm +x) up: what touches the palm and the inner finger faces.
 
@@ -52,7 +53,7 @@ from graspframe.pictures.panel import legend_entries, render_panel
 from graspframe.pictures.render3d import Camera, Placed, View, fit_view
 from graspframe.pictures.robot_scene import corners, distance_to, table_soup
 from graspframe.pictures.sheet import compose, write_png
-from graspframe.transforms import inv_T, transform_points
+from graspframe.transforms import R_from_axis_angle, inv_T, transform_points
 from graspframe.urdf_model import UrdfModel
 
 PICTURE_STYLE = 2  # changes with the look of the pictures (cached pictures are redrawn)
@@ -63,6 +64,7 @@ NEAR_HAND = 0.10  # [m] arm links with a vertex this close to the palm origin ar
 TABLE_HALF_SIZE = 0.6  # [m] the table top drawn around the framed hand and object
 SIDE_ELEVATION_DEG = 20.0
 ABOVE_ELEVATION_DEG = 60.0
+ABOVE_TURN_DEG = 60.0
 PALM_VIEW_DIRECTION = (0.0, -0.3, 1.0)  # palm frame: from the object's side, a little to -y
 WORLD_UP = np.array([0.0, 0.0, 1.0])
 
@@ -230,16 +232,25 @@ def side_direction(T_world_palm, p_world_arm=None) -> NDArray[np.float64]:
     return _elevated(horizontal, SIDE_ELEVATION_DEG)
 
 
-def above_direction(T_world_palm) -> NDArray[np.float64]:
+def above_direction(T_world_palm, p_world_arm=None) -> NDArray[np.float64]:
     """World direction from the hand towards the above view's camera: behind the back of
-    the hand, or behind the wrist when the palm faces down or up."""
+    the hand, or behind the wrist when the palm faces down or up; turned ABOVE_TURN_DEG
+    to either side when that keeps the arm's points `p_world_arm` (n, 3) [m] further
+    from the line of sight (the arm comes from behind the hand)."""
     R = np.asarray(T_world_palm)[:3, :3]
     horizontal = _horizontal(-R[:, 2])
     if horizontal is None:
         horizontal = _horizontal(-R[:, 0])
     if horizontal is None:
         horizontal = np.array([-1.0, 0.0, 0.0])
-    return _elevated(horizontal, ABOVE_ELEVATION_DEG)
+    candidates = [_elevated(horizontal, ABOVE_ELEVATION_DEG)]
+    if p_world_arm is not None and len(p_world_arm):
+        for turn_deg in (ABOVE_TURN_DEG, -ABOVE_TURN_DEG):
+            R_turn = R_from_axis_angle(WORLD_UP, math.radians(turn_deg))
+            candidates.append(_elevated(R_turn @ horizontal, ABOVE_ELEVATION_DEG))
+        offsets = np.asarray(p_world_arm, dtype=float) - T_world_palm[:3, 3]
+        candidates.sort(key=lambda d: float(np.mean(offsets @ d)))  # stable: behind first
+    return candidates[0]
 
 
 def _camera() -> Camera:
@@ -272,7 +283,7 @@ def contact_summary(snapshot: Snapshot) -> str:
     return f"{total} contact{'s' if total != 1 else ''}: {listing}"
 
 
-ROW_LABELS = ("side", "above, behind the hand", "palm frame, facing the palm")
+ROW_LABELS = ("side", "from above", "palm frame, facing the palm")
 
 
 def draw_snapshots(
@@ -290,7 +301,7 @@ def draw_snapshots(
     p_world_arm = np.concatenate(arm_points) if arm_points else None
     rows = [
         _world_views(moments, side_direction(reference, p_world_arm)),
-        _world_views(moments, above_direction(reference)),
+        _world_views(moments, above_direction(reference, p_world_arm)),
         _palm_views(moments),
     ]
     points = np.concatenate([m.framed_points() for m in moments])

@@ -225,6 +225,9 @@ def test_view_directions_keep_the_arm_behind_and_the_camera_above():
     R_side_grasp = R_from_rpy(0.0, np.pi / 2, 0.0)  # palm +z along world +x
     above = snap.above_direction(make_T(R_side_grasp))
     assert above[0] < 0 and above[2] > 0.8  # behind the back of the hand
+    # An arm behind the hand: the camera turns aside, still above.
+    turned = snap.above_direction(make_T(R_side_grasp), np.array([[-0.2, 0.0, 0.0]]))
+    assert turned[2] > 0.8 and abs(turned[1]) > 0.3
 
 
 def leap_scene() -> SnapshotScene:
