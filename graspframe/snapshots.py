@@ -50,8 +50,8 @@ from graspframe.hal.objects import ObjectDescription
 from graspframe.pictures import style
 from graspframe.pictures.inputs import checked_figure, checked_object_soup, contact_points, pose
 from graspframe.pictures.panel import legend_entries, render_panel
-from graspframe.pictures.render3d import Camera, Placed, View, fit_view
-from graspframe.pictures.robot_scene import corners, distance_to, table_soup
+from graspframe.pictures.render3d import Camera, Placed, View, box_corners, fit_view
+from graspframe.pictures.robot_scene import distance_to, table_soup
 from graspframe.pictures.sheet import compose, write_png
 from graspframe.transforms import R_from_axis_angle, inv_T, transform_points
 from graspframe.urdf_model import UrdfModel
@@ -155,9 +155,9 @@ class _Moment:
 
     def framed_points(self) -> NDArray[np.float64]:
         """(n, 3) [m] world points a view must show: the hand, and the object when near."""
-        boxes = [corners(p) for p in self.hand]
+        boxes = [box_corners(p) for p in self.hand]
         if self.object_near:
-            boxes.append(corners(self.object))
+            boxes.append(box_corners(self.object))
         return np.concatenate(boxes)
 
 
@@ -297,7 +297,7 @@ def draw_snapshots(
     colours = style.finger_colours(scene.finger_of_link)
     moments = _place_moments(scene, snapshots, colours)
     reference = moments[0].T_world_palm
-    arm_points = [corners(p) for m in moments for p in m.arm]
+    arm_points = [box_corners(p) for m in moments for p in m.arm]
     p_world_arm = np.concatenate(arm_points) if arm_points else None
     rows = [
         _world_views(moments, side_direction(reference, p_world_arm)),

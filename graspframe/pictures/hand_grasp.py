@@ -33,8 +33,7 @@ from graspframe.hal.objects import ObjectDescription
 from graspframe.pictures import style
 from graspframe.pictures.inputs import checked_figure, checked_object_soup, contact_points, pose
 from graspframe.pictures.panel import legend_entries, render_panel
-from graspframe.pictures.render3d import Camera, Placed, fit_view
-from graspframe.pictures.robot_scene import corners
+from graspframe.pictures.render3d import Camera, Placed, box_corners, fit_view
 from graspframe.pictures.sheet import compose, write_png
 from graspframe.transforms import inv_T
 from graspframe.urdf_model import UrdfModel
@@ -88,7 +87,7 @@ def draw_hand_grasp(
     hand_placed = [p for link, p in links.items() if figure.is_hand_link(link)]
     placed_object = Placed(object_soup, T_palm_object, translucent=True)
     placed = [*hand_placed, placed_object]
-    points = np.concatenate([corners(p) for p in placed])
+    points = np.concatenate([box_corners(p) for p in placed])
     camera = Camera.from_fov(PANEL_PX, PANEL_PX, FOV_DEG)
     views = [
         fit_view(camera, points, PALM_VIEW_DIRECTION, (1.0, 0.0, 0.0)),

@@ -143,6 +143,23 @@ def fit_view(camera: Camera, points, direction, up, margin: float = 0.08) -> Vie
     return View(camera, look_at(eye, centre, up))
 
 
+def box_corners(placed: Placed) -> NDArray[np.float64]:
+    """(8, 3) [m] world corners of the soup's bounding box in its own frame."""
+    low = placed.soup.positions.min(axis=0)
+    high = placed.soup.positions.max(axis=0)
+    box = np.array(
+        [
+            [x, y, z]
+            for x in (low[0], high[0])
+            for y in (low[1], high[1])
+            for z in (low[2], high[2])
+        ],
+        dtype=float,
+    )
+    T = placed.T_world_soup
+    return box @ T[:3, :3].T + T[:3, 3]
+
+
 def _in_camera(placed: Sequence[Placed], T_camera_world):
     positions, normals, albedo = [], [], []
     for item in placed:
@@ -187,14 +204,7 @@ def _region(placed: Sequence[Placed], view: View) -> tuple[int, int, int, int] |
     if not placed:
         return None
     c = view.camera
-    corners = []
-    for item in placed:
-        low, high = item.soup.positions.min(axis=0), item.soup.positions.max(axis=0)
-        box = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1])
-                        for z in (low[2], high[2])], dtype=float)  # fmt: skip
-        T = item.T_world_soup
-        corners.append(box @ T[:3, :3].T + T[:3, 3])
-    pixels, depth = view.project(np.concatenate(corners))
+    pixels, depth = view.project(np.concatenate([box_corners(item) for item in placed]))
     if np.any(depth <= NEAR):
         return 0, 0, c.width, c.height
     x0, y0 = np.floor(pixels.min(axis=0)).astype(int) - 1

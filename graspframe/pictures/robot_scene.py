@@ -73,23 +73,6 @@ class RobotFigure:
         return link in self.finger_of_link
 
 
-def corners(placed: Placed) -> NDArray[np.float64]:
-    """(8, 3) [m] world corners of the soup's bounding box in its own frame."""
-    low = placed.soup.positions.min(axis=0)
-    high = placed.soup.positions.max(axis=0)
-    box = np.array(
-        [
-            [x, y, z]
-            for x in (low[0], high[0])
-            for y in (low[1], high[1])
-            for z in (low[2], high[2])
-        ],
-        dtype=float,
-    )
-    T = placed.T_world_soup
-    return box @ T[:3, :3].T + T[:3, 3]
-
-
 def distance_to(placed: Placed, p_world) -> float:
     """[m] smallest distance from the soup's triangle corners to a world point."""
     T = placed.T_world_soup
