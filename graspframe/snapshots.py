@@ -1,24 +1,38 @@
-"""A picture of a grasp: `snapshots.png`, a grid of 2-D views written next to a run's result.
+"""A picture of a grasp: `snapshots.png`, a grid of shaded 3-D views written next to a
+run's result.
 
-One column per moment of the grasp (e.g. "first contact", "hold", "after lift"), one row
-per view:
+One column per moment of the grasp (e.g. "first contact", "hold", "after lift"), headed
+by its contact count per real finger; one row per view, each a perspective render
+(graspframe/pictures/):
 
-- world x-z: world x to the right, world z up (seen from -y);
-- world y-z: world y to the right, world z up (seen from +x);
-- palm x-z: the palm frame of that moment, x towards the fingertips to the right, z (the
-  palm normal, out of the palm towards the object) up (seen from palm -y).
+- side: from the palm's -y side (square to the plane the fingers curl in; from its +y
+  side when the arm would stand between), 20 deg above the horizontal, world z up;
+- above: from 60 deg above the table, behind the back of the hand (or, for a hand that
+  faces down, behind the wrist; turned 60 deg aside when the arm would stand in the
+  way), world z up: how the fingers reach around the object;
+- palm: in the palm frame of each moment, looking at the palm from the object's side,
+  fingertips (palm +x) up: what touches the palm and the inner finger faces.
 
-Each panel shows the orthographic projection of the robot's collision shapes (hand links
-coloured by real finger, palm grey; arm links slate, only those near the palm), the object
-(yellow), the table (thick black line at the table top, grey below; in the palm view the
-table plane's intersection with the palm x-z plane), the object contacts (red dots), and
-the palm axes at the palm origin (red arrow: palm +z, blue arrow: palm +x; 3 cm each).
-Every shape is a convex primitive, so its projection is the 2-D convex hull of points
-sampled on its surface; shapes are painted far to near along the viewing axis. The rows
-keep the same limits in all columns, so moments compare directly.
+The side and above views keep one camera for all moments (fitted to the hand and the
+object in all of them): the lift and any slip show as motion between columns. The palm
+view keeps one camera in the palm frame.
 
-Drawn with a bare `matplotlib.figure.Figure` (Agg canvas): no pyplot global state, no 3-D
-axes. The file is written atomically.
+Each panel shows the robot's meshes (each link's visual meshes when the model has them,
+else its collision shapes; hand links coloured by real finger, the palm grey, a vendor
+mesh keeping a tint of its material colour; arm links only near the palm, muted), the
+object (`graspframe.shapes.object_mesh`), the table top as a checker of 5 cm squares
+(a floor and a scale for the eye), the contacts and the palm axes (red arrow: palm +z,
+blue arrow: palm +x; 3 cm each).
+
+Readable at a glance for a failed grasp: what matters is where the fingers touch, and
+most contacts are on the far side of the object or under a finger from some view. So the
+object and the arm links are see-through (55 % opaque, one layer deep: the solid hand
+and table show through them tinted), and contacts and palm axes are drawn on top of the
+render after projecting them, so every contact is visible in every view; the three views
+then say which side it is on. The hand itself stays opaque: its shape is the subject.
+
+Rendered by graspframe/vision/render.py's CPU rasteriser (one context per process); the
+sheet is composed with OpenCV and Pillow and written atomically.
 """
 
 from __future__ import annotations
@@ -32,48 +46,41 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError, InputError
-from graspframe.files import atomic_output
-from graspframe.hal.objects import SHAPES
-from graspframe.shapes import geometry_mesh, primitive_mesh
-from graspframe.transforms import inv_T, transform_points
+from graspframe.hal.objects import ObjectDescription
+from graspframe.pictures import style
+from graspframe.pictures.inputs import checked_figure, checked_object_soup, contact_points, pose
+from graspframe.pictures.panel import legend_entries, render_panel
+from graspframe.pictures.render3d import Camera, Placed, View, box_corners, fit_view
+from graspframe.pictures.robot_scene import distance_to, table_soup
+from graspframe.pictures.sheet import compose, write_png
+from graspframe.transforms import R_from_axis_angle, inv_T, transform_points
 from graspframe.urdf_model import UrdfModel
 
+PICTURE_STYLE = 2  # changes with the look of the pictures (cached pictures are redrawn)
+PANEL_PX = 360  # [px] side of a square panel
+FOV_DEG = 30.0  # horizontal field of view of every camera
 FAR_OBJECT = 0.5  # [m] an object further from the palm is left out of the framing
-PANEL_INCH = 4.0  # per panel; plus margins for the title, x labels, row labels:
-TITLE_INCH, XLABEL_INCH, LEFT_INCH, RIGHT_INCH = 1.0, 0.4, 0.8, 0.2
-LEGEND_ENTRY_INCH, LEGEND_ROW_INCH = 1.25, 0.22  # the legend wraps to the figure's width
-LEGEND_FIXED_ENTRIES = 6  # arm, object, table, contact, palm +z, palm +x (+ one per finger)
-DPI = 80
-NEAR_HAND = 0.25  # [m] arm links with a shape point this close to the palm origin are drawn
-MIN_SPAN = 0.25  # [m] smallest width of a panel
-MARGIN = 0.03  # [m] around the object and the hand
-ARROW_LENGTH = 0.03  # [m] palm axes
-RING_POINTS = 24  # samples per circle (cylinder rims, sphere outlines)
-
-FINGER_COLOURS = ("#1b9e77", "#7570b3", "#e7298a", "#66a61e", "#d95f02", "#a6761d", "#17becf")
-PALM_COLOUR = "#9a9a9a"
-ARM_COLOUR = "#3b4f6b"
-OBJECT_COLOUR, OBJECT_EDGE = "#ffd92f", "#5c4a00"
-TABLE_COLOUR, TABLE_FILL = "#000000", "#e4e4e4"
-CONTACT_COLOUR = "#ff0000"
-PALM_Z_COLOUR, PALM_X_COLOUR = "#d62728", "#1f4fd8"
-PALM = "palm"
+NEAR_HAND = 0.10  # [m] arm links with a vertex this close to the palm origin are drawn (the wrist)
+TABLE_HALF_SIZE = 0.6  # [m] the table top drawn around the framed hand and object
+SIDE_ELEVATION_DEG = 20.0
+ABOVE_ELEVATION_DEG = 60.0
+ABOVE_TURN_DEG = 60.0
+PALM_VIEW_DIRECTION = (0.0, -0.3, 1.0)  # palm frame: from the object's side, a little to -y
+WORLD_UP = np.array([0.0, 0.0, 1.0])
 
 
 @dataclass(frozen=True)
 class SnapshotScene:
     """What stays the same over a run.
 
-    model: the robot model (hand alone, or on an arm or a floating base); only its
-        collision shapes are drawn.
+    model: the robot model (hand alone, or on an arm or a floating base); each link is
+        drawn with its visual meshes (`model.visuals`), else its collision shapes.
     T_world_root: pose of the URDF root link in the world.
     palm_frame: the palm frame link of the URDF.
     finger_of_link: hand link -> real finger ("palm", "finger_1", ...); other links are arm links.
     joint_followers: adds <mimic> follower joints to a joint dict
         (HandDescription.with_model_followers); None: the dict is used as it is.
-    object_shape: "box", "cylinder" (axis = object z) or "sphere".
-    object_dimensions: [m] box: size_x, size_y, size_z; cylinder: radius, length;
-        sphere: radius.
+    obj: the object (its display mesh is `graspframe.shapes.object_mesh(obj)`).
     table_height: [m] world z of the table top (the table is the half-space below).
     """
 
@@ -82,8 +89,7 @@ class SnapshotScene:
     palm_frame: str
     finger_of_link: Mapping[str, str]
     joint_followers: Callable[[dict[str, float]], dict[str, float]] | None
-    object_shape: str
-    object_dimensions: Mapping[str, float]
+    obj: ObjectDescription
     table_height: float
 
 
@@ -96,8 +102,7 @@ def scene_of_robot(model: UrdfModel, T_world_root, hand, obj, table_height: floa
         palm_frame=hand.palm_frame,
         finger_of_link=hand.finger_of_link(),
         joint_followers=hand.with_model_followers,
-        object_shape=obj.shape,
-        object_dimensions=obj.dimensions,
+        obj=obj,
         table_height=table_height,
     )
 
@@ -139,386 +144,144 @@ class Snapshot:
         )
 
 
-@dataclass(frozen=True)
-class View:
-    """A 2-D view of a frame: picture axes are the frame's axes `right` and `up`;
-    `towards_viewer` is the frame direction pointing out of the picture (painter's depth)."""
-
-    name: str
-    in_palm_frame: bool
-    right: int
-    up: int
-    towards_viewer: tuple[float, float, float]
-    xlabel: str
-    ylabel: str
-
-
-VIEWS = (
-    View("world x-z", False, 0, 2, (0.0, -1.0, 0.0), "world x [m]", "world z [m]"),
-    View("world y-z", False, 1, 2, (1.0, 0.0, 0.0), "world y [m]", "world z [m]"),
-    View("palm x-z", True, 0, 2, (0.0, -1.0, 0.0), "palm x (to fingertips) [m]", "palm z [m]"),
-)
-
-
-@dataclass(frozen=True)
-class Solid:
-    """A convex solid as sample points plus discs (centre, radius) whose projections are
-    circles of that radius (spheres, capsule ends): its projection is the hull of both."""
-
-    points: NDArray[np.float64]  # (m, 3)
-    disc_centres: NDArray[np.float64]  # (k, 3)
-    disc_radii: NDArray[np.float64]  # (k,)
-
-    def moved(self, T_a_b: NDArray[np.float64]) -> Solid:
-        """This solid (given in frame b) expressed in frame a."""
-        return Solid(
-            transform_points(T_a_b, self.points).reshape(-1, 3),
-            transform_points(T_a_b, self.disc_centres).reshape(-1, 3),
-            self.disc_radii,
-        )
-
-    def distance_to(self, p: NDArray[np.float64]) -> float:
-        """Smallest distance [m] from the sample points or discs to the point p."""
-        d = [np.linalg.norm(self.points - p, axis=1)]
-        d.append(np.linalg.norm(self.disc_centres - p, axis=1) - self.disc_radii)
-        d = np.concatenate(d)
-        return float(d.min()) if d.size else math.inf
-
-
-_ANGLES = np.linspace(0, 2 * np.pi, RING_POINTS, endpoint=False)
-_UNIT_CIRCLE = np.c_[np.cos(_ANGLES), np.sin(_ANGLES)]
-_NO_POINTS = np.zeros((0, 3))
-_NO_RADII = np.zeros(0)
-
-
-def _sphere(radius: float) -> Solid:
-    return Solid(_NO_POINTS, np.zeros((1, 3)), np.array([radius]))
-
-
-def _mesh_solid(mesh) -> Solid:
-    return Solid(np.asarray(mesh.vertices, dtype=float), _NO_POINTS, _NO_RADII)
-
-
-def solid_of_geometry(geometry) -> Solid | None:
-    """The Solid (in the shape's frame) of a coal collision geometry; None if it cannot be
-    drawn. Spheres and capsules are discs (exact outlines); other kinds are the vertices
-    of their mesh (`graspframe.shapes.geometry_mesh`)."""
-    kind = type(geometry).__name__
-    if kind == "Sphere":
-        return _sphere(float(geometry.radius))
-    if kind == "Capsule":
-        h = float(geometry.halfLength)
-        return Solid(_NO_POINTS, np.array([[0, 0, -h], [0, 0, h]]), np.full(2, geometry.radius))
-    mesh = geometry_mesh(geometry, sections=RING_POINTS)
-    return None if mesh is None else _mesh_solid(mesh)
-
-
-def object_solid(shape: str, dimensions: Mapping[str, float]) -> Solid:
-    """The object's Solid in the object frame; InputError for an unknown shape or a
-    missing or non-positive dimension."""
-    if shape not in SHAPES:
-        known = ", ".join(SHAPES)
-        raise InputError(f"unknown object shape {shape!r}; known shapes: {known}")
-    values = {}
-    for key in SHAPES[shape]:
-        try:
-            values[key] = float(dimensions[key])
-        except (KeyError, TypeError, ValueError):
-            raise InputError(
-                f"object {shape}: dimension {key!r} missing or not a number "
-                f"(needs {', '.join(SHAPES[shape])} [m])"
-            ) from None
-        if not (math.isfinite(values[key]) and values[key] > 0):
-            raise InputError(f"object {shape}: dimension {key!r} must be > 0 m, got {values[key]}")
-    if shape == "sphere":
-        return _sphere(values["radius"])
-    return _mesh_solid(primitive_mesh(shape, values, sections=RING_POINTS))
-
-
-def project(solid: Solid, view: View) -> tuple[NDArray[np.float64], float]:
-    """(2-D outline polygon (m, 2) [m], nearness to the viewer [m]) of a solid given in the
-    view's frame."""
-    axes = [view.right, view.up]
-    points_2d = [solid.points[:, axes]]
-    for centre, radius in zip(solid.disc_centres, solid.disc_radii, strict=True):
-        points_2d.append(centre[axes] + radius * _UNIT_CIRCLE)
-    outline_points = np.concatenate(points_2d)
-    centres = np.concatenate([solid.points, solid.disc_centres])
-    nearness = float((centres @ np.asarray(view.towards_viewer)).mean())
-    return _convex_hull(outline_points), nearness
-
-
-def _convex_hull(points: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Counter-clockwise hull of 2-D points; a degenerate (flat) set gives its two extreme
-    points, which the polygon's edge draws as a line."""
-    from scipy.spatial import ConvexHull, QhullError
-
-    try:
-        return points[ConvexHull(points).vertices]
-    except (QhullError, ValueError):
-        ends = points[[0, int(np.argmax(np.linalg.norm(points - points[0], axis=1)))]]
-        return ends
-
-
-def project_points(p_frame: NDArray[np.float64], view: View) -> NDArray[np.float64]:
-    """(n, 2) picture coordinates [m] of points (n, 3) given in the view's frame."""
-    return np.asarray(p_frame, dtype=float).reshape(-1, 3)[:, [view.right, view.up]]
-
-
 @dataclass
 class _Moment:
-    """One snapshot placed: solids per link in the world, palm pose, object, contacts."""
+    """One snapshot placed in the world: hand links, near arm links, object, contacts."""
 
     snapshot: Snapshot
     T_world_palm: NDArray[np.float64]
-    link_solids: list[tuple[str, Solid]]  # world frame, hand links and near arm links
-    object_world: Solid
+    hand: list[Placed]
+    arm: list[Placed]  # translucent
+    object: Placed  # translucent
     contacts_world: NDArray[np.float64]
 
-    def in_view_frame(self, view: View):
-        """(T_view_world, link solids, object solid, contacts) in the view's frame."""
-        T_view_world = inv_T(self.T_world_palm) if view.in_palm_frame else np.eye(4)
-        if not view.in_palm_frame:
-            return T_view_world, self.link_solids, self.object_world, self.contacts_world
-        links = [(link, s.moved(T_view_world)) for link, s in self.link_solids]
-        contacts = transform_points(T_view_world, self.contacts_world).reshape(-1, 3)
-        return T_view_world, links, self.object_world.moved(T_view_world), contacts
+    @property
+    def object_near(self) -> bool:
+        """False when the object is far from the hand (knocked away, or fallen through
+        the table after a simulation failure): the views then frame the hand alone."""
+        p_world_object = self.object.T_world_soup[:3, 3]
+        return float(np.linalg.norm(p_world_object - self.T_world_palm[:3, 3])) <= FAR_OBJECT
+
+    def framed_points(self) -> NDArray[np.float64]:
+        """(n, 3) [m] world points a view must show: the hand, and the object when near."""
+        boxes = [box_corners(p) for p in self.hand]
+        if self.object_near:
+            boxes.append(box_corners(self.object))
+        return np.concatenate(boxes)
 
 
-def _pose(value, what: str) -> NDArray[np.float64]:
-    try:
-        T = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{what} must be a 4x4 matrix of numbers") from None
-    if T.shape != (4, 4) or not np.all(np.isfinite(T)):
-        raise InputError(f"{what} must be a finite 4x4 matrix, got shape {T.shape}")
-    return T
-
-
-def _contacts(snapshot: Snapshot) -> NDArray[np.float64]:
-    what = f"snapshot {snapshot.label!r}"
-    try:
-        points = np.asarray(snapshot.contact_points_world, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{what}: contact_points_world must be an (n, 3) array [m]") from None
-    if points.size == 0:
-        points = np.zeros((0, 3))
-    if points.ndim != 2 or points.shape[1] != 3 or not np.all(np.isfinite(points)):
-        raise InputError(
-            f"{what}: contact_points_world must be a finite (n, 3) array [m], got shape "
-            f"{points.shape}"
-        )
-    if len(snapshot.contact_fingers) != len(points):
-        raise InputError(
-            f"{what}: {len(points)} contact points but {len(snapshot.contact_fingers)} "
-            "contact fingers; give one finger per point"
-        )
-    return points
-
-
-def _place_moments(scene: SnapshotScene, snapshots: Sequence[Snapshot]) -> list[_Moment]:
-    from graspframe.robot_model import CollisionModel
-
-    T_world_root = _pose(scene.T_world_root, "scene T_world_root")
-    solid_object = object_solid(scene.object_shape, scene.object_dimensions)
+def _place_moments(
+    scene: SnapshotScene, snapshots: Sequence[Snapshot], colours: Mapping[str, str]
+) -> list[_Moment]:
+    T_world_root = pose(scene.T_world_root, "scene T_world_root")
+    soup = checked_object_soup(scene.obj, "snapshots")
     checked = [
-        (s, _pose(s.T_world_object, f"snapshot {s.label!r}: T_world_object"), _contacts(s))
+        (
+            s,
+            pose(s.T_world_object, f"snapshot {s.label!r}: T_world_object"),
+            contact_points(
+                s.contact_points_world,
+                s.contact_fingers,
+                f"snapshot {s.label!r}: contact_points_world",
+            ),
+        )
         for s in snapshots
     ]
-    try:
-        model = CollisionModel(scene.model)
-    except GraspframeError as exc:
-        raise InputError(f"snapshots: {exc}") from None
-    if not model.model.existFrame(scene.palm_frame):
-        raise InputError(f"palm frame {scene.palm_frame!r} is not in {scene.model.describe()}")
-    local = [(link, geometry, solid_of_geometry(geometry)) for link, geometry, _ in model.shapes()]
+    figure = checked_figure(
+        scene.model, scene.finger_of_link, colours, scene.palm_frame, "snapshots"
+    )
     moments = []
     for snapshot, T_world_object, contacts in checked:
         q = dict(snapshot.q_by_joint)
         if scene.joint_followers is not None:
             q = scene.joint_followers(q)
         try:
-            model.place(q)
-            T_root_palm = model.T_root_frame(scene.palm_frame)
+            figure.place(q)
         except GraspframeError as exc:
             raise InputError(f"snapshot {snapshot.label!r}: {exc}") from None
-        T_world_palm = T_world_root @ T_root_palm
-        placed = [
-            (link, solid.moved(T_world_root @ T_root_shape))
-            for (link, _, solid), (_, _, T_root_shape) in zip(local, model.shapes(), strict=True)
-            if solid is not None
+        T_world_palm = T_world_root @ figure.T_root_frame(scene.palm_frame)
+        links = figure.placed_links(T_world_root)
+        hand = [p for link, p in links.items() if figure.is_hand_link(link)]
+        arm = [
+            Placed(p.soup, p.T_world_soup, translucent=True)
+            for link, p in links.items()
+            if not figure.is_hand_link(link) and distance_to(p, T_world_palm[:3, 3]) <= NEAR_HAND
         ]
-        p_world_palm = T_world_palm[:3, 3]
-        near_arm_links = {
-            link
-            for link, solid in placed
-            if link not in scene.finger_of_link and solid.distance_to(p_world_palm) <= NEAR_HAND
-        }
-        link_solids = [
-            (link, solid)
-            for link, solid in placed
-            if link in scene.finger_of_link or link in near_arm_links
-        ]
-        moments.append(
-            _Moment(
-                snapshot, T_world_palm, link_solids, solid_object.moved(T_world_object), contacts
-            )
-        )
+        placed_object = Placed(soup, T_world_object, translucent=True)
+        moments.append(_Moment(snapshot, T_world_palm, hand, arm, placed_object, contacts))
     return moments
 
 
-def finger_colours(finger_of_link: Mapping[str, str]) -> dict[str, str]:
-    """Real finger -> colour, in the order the fingers first appear; the palm is grey."""
-    colours: dict[str, str] = {}
-    for finger in finger_of_link.values():
-        if finger not in colours and finger != PALM:
-            colours[finger] = FINGER_COLOURS[len(colours) % len(FINGER_COLOURS)]
-    colours[PALM] = PALM_COLOUR
-    return colours
+def _horizontal(v) -> NDArray[np.float64] | None:
+    """The unit horizontal part of a world vector, None when it is nearly vertical."""
+    h = np.array([v[0], v[1], 0.0])
+    n = float(np.linalg.norm(h))
+    return None if n < 0.2 else h / n
 
 
-def _object_in_view(moment: _Moment) -> bool:
-    """False when the object is far from the hand (knocked away, or fallen through the
-    table after a simulation failure): the views then frame the hand alone."""
-    p_world_object = np.asarray(moment.snapshot.T_world_object, dtype=float)[:3, 3]
-    return float(np.linalg.norm(p_world_object - moment.T_world_palm[:3, 3])) <= FAR_OBJECT
+def _elevated(horizontal, elevation_deg: float) -> NDArray[np.float64]:
+    e = math.radians(elevation_deg)
+    return math.cos(e) * horizontal + math.sin(e) * WORLD_UP
 
 
-def _limits(view: View, frames, scene: SnapshotScene, moments) -> tuple[float, float, float]:
-    """(centre x, centre y, half width) [m], shared by the moments of one view: fits the
-    object (when near the hand) and the hand links (and, in world views, the table top)
-    with a margin."""
-    outlines = []
-    for (_, links, object_solid_view, _), moment in zip(frames, moments, strict=True):
-        if _object_in_view(moment):
-            outlines.append(project(object_solid_view, view)[0])
-        outlines.extend(project(s, view)[0] for link, s in links if link in scene.finger_of_link)
-    points = np.concatenate(outlines)
-    low, high = points.min(axis=0), points.max(axis=0)
-    if not view.in_palm_frame:
-        low[1] = min(low[1], scene.table_height)
-        high[1] = max(high[1], scene.table_height)
-    centre = (low + high) / 2
-    half = max(MIN_SPAN / 2, float((high - low).max()) / 2 + MARGIN)
-    return float(centre[0]), float(centre[1]), half
+def side_direction(T_world_palm, p_world_arm=None) -> NDArray[np.float64]:
+    """World direction from the hand towards the side view's camera: from the palm's -y
+    side, or its +y side when the arm's points `p_world_arm` (n, 3) [m] lie more towards
+    the -y camera (the arm stays behind the hand)."""
+    R = np.asarray(T_world_palm)[:3, :3]
+    horizontal = _horizontal(-R[:, 1])
+    if horizontal is None:  # palm y vertical: look along the palm normal's side instead
+        horizontal = _horizontal(np.cross(WORLD_UP, R[:, 2]))
+    if horizontal is None:
+        horizontal = np.array([0.0, -1.0, 0.0])
+    if p_world_arm is not None and len(p_world_arm):
+        towards_camera = float(np.mean((p_world_arm - T_world_palm[:3, 3]) @ horizontal))
+        if towards_camera > 0:
+            horizontal = -horizontal
+    return _elevated(horizontal, SIDE_ELEVATION_DEG)
 
 
-def table_line(view: View, T_view_world, table_height: float):
-    """(point, direction, towards-table normal) of the table top in picture coordinates,
-    or None when the table plane is parallel to the picture plane (no line to draw)."""
-    # Points p_view with p_world.z = table_height: n . p_view = d, n = world z in the view.
-    T_world_view = inv_T(T_view_world)
-    n_view, d = T_world_view[2, :3], table_height - T_world_view[2, 3]
-    n_2d = n_view[[view.right, view.up]]  # in the picture plane (depth coordinate = 0)
-    norm = float(np.linalg.norm(n_2d))
-    if norm < 1e-6:
-        return None
-    point = n_2d * d / norm**2
-    normal = n_2d / norm
-    return point, np.array([-normal[1], normal[0]]), -normal
+def above_direction(T_world_palm, p_world_arm=None) -> NDArray[np.float64]:
+    """World direction from the hand towards the above view's camera: behind the back of
+    the hand, or behind the wrist when the palm faces down or up; turned ABOVE_TURN_DEG
+    to either side when that keeps the arm's points `p_world_arm` (n, 3) [m] further
+    from the line of sight (the arm comes from behind the hand)."""
+    R = np.asarray(T_world_palm)[:3, :3]
+    horizontal = _horizontal(-R[:, 2])
+    if horizontal is None:
+        horizontal = _horizontal(-R[:, 0])
+    if horizontal is None:
+        horizontal = np.array([-1.0, 0.0, 0.0])
+    candidates = [_elevated(horizontal, ABOVE_ELEVATION_DEG)]
+    if p_world_arm is not None and len(p_world_arm):
+        for turn_deg in (ABOVE_TURN_DEG, -ABOVE_TURN_DEG):
+            R_turn = R_from_axis_angle(WORLD_UP, math.radians(turn_deg))
+            candidates.append(_elevated(R_turn @ horizontal, ABOVE_ELEVATION_DEG))
+        offsets = np.asarray(p_world_arm, dtype=float) - T_world_palm[:3, 3]
+        candidates.sort(key=lambda d: float(np.mean(offsets @ d)))  # stable: behind first
+    return candidates[0]
 
 
-def _draw_panel(ax, view: View, frame, moment: _Moment, scene, colours, limits) -> None:
-    from matplotlib.collections import PolyCollection
-    from matplotlib.patches import Polygon
-    from matplotlib.ticker import MaxNLocator
+def _camera() -> Camera:
+    return Camera.from_fov(PANEL_PX, PANEL_PX, FOV_DEG)
 
-    T_view_world, links, object_view, contacts_view = frame
-    cx, cy, half = limits
-    far = 20 * half
 
-    table = table_line(view, T_view_world, scene.table_height)
-    if table is not None:
-        point, direction, down = table
-        a, b = point - far * direction, point + far * direction
-        ax.add_patch(
-            Polygon(
-                [a, b, b + far * down, a + far * down],
-                closed=True,
-                facecolor=TABLE_FILL,
-                edgecolor="none",
-                zorder=0,
-            )
-        )
-        ax.plot([a[0], b[0]], [a[1], b[1]], color=TABLE_COLOUR, linewidth=3, zorder=1)
+def _world_views(moments: Sequence[_Moment], direction) -> list[View]:
+    points = np.concatenate([m.framed_points() for m in moments])
+    view = fit_view(_camera(), points, direction, WORLD_UP)
+    return [view] * len(moments)
 
-    items = []  # (nearness, polygon, face colour, edge colour, edge width)
-    for link, solid in links:
-        polygon, nearness = project(solid, view)
-        finger = scene.finger_of_link.get(link)
-        colour = ARM_COLOUR if finger is None else colours.get(finger, PALM_COLOUR)
-        items.append((nearness, polygon, colour, "#202020", 0.5))
-    polygon, nearness = project(object_view, view)
-    items.append((nearness, polygon, OBJECT_COLOUR, OBJECT_EDGE, 1.2))
-    items.sort(key=lambda item: item[0])  # far first: near shapes paint over them
-    ax.add_collection(
-        PolyCollection(
-            [item[1] for item in items],
-            facecolors=[item[2] for item in items],
-            edgecolors=[item[3] for item in items],
-            linewidths=[item[4] for item in items],
-            alpha=0.9,
-            zorder=2,
-        ),
-        autolim=False,
+
+def _palm_views(moments: Sequence[_Moment]) -> list[View]:
+    points_palm = np.concatenate(
+        [transform_points(inv_T(m.T_world_palm), m.framed_points()) for m in moments]
     )
-
-    if len(contacts_view):
-        xy = project_points(contacts_view, view)
-        ax.scatter(
-            xy[:, 0], xy[:, 1], s=36, c=CONTACT_COLOUR, edgecolors="black", linewidths=0.8, zorder=4
-        )
-
-    T_view_palm = T_view_world @ moment.T_world_palm
-    origin = project_points(T_view_palm[:3, 3], view)[0]
-    for axis, colour in ((2, PALM_Z_COLOUR), (0, PALM_X_COLOUR)):
-        tip = project_points(T_view_palm[:3, 3] + ARROW_LENGTH * T_view_palm[:3, axis], view)[0]
-        if np.linalg.norm(tip - origin) < 1e-3:  # pointing at the viewer: a dot says so
-            ax.plot(*origin, marker="o", markersize=4, color=colour, zorder=5)
-            continue
-        ax.annotate(
-            "",
-            xy=tip,
-            xytext=origin,
-            zorder=5,
-            arrowprops={
-                "arrowstyle": "-|>",
-                "color": colour,
-                "linewidth": 2,
-                "shrinkA": 0,
-                "shrinkB": 0,
-                "mutation_scale": 12,
-            },
-        )
-
-    ax.set_xlim(cx - half, cx + half)
-    ax.set_ylim(cy - half, cy + half)
-    ax.set_aspect("equal", adjustable="box")
-    # Few ticks: tick labels are most of the drawing time.
-    ax.xaxis.set_major_locator(MaxNLocator(nbins=4))
-    ax.yaxis.set_major_locator(MaxNLocator(nbins=4))
-    ax.tick_params(labelsize=8)
-    ax.grid(True, linewidth=0.3, color="#bbbbbb", zorder=-1)
+    in_palm = fit_view(_camera(), points_palm, PALM_VIEW_DIRECTION, (1.0, 0.0, 0.0))
+    return [View(in_palm.camera, m.T_world_palm @ in_palm.T_world_camera) for m in moments]
 
 
-def _legend_layout(n_columns: int, n_fingers: int) -> tuple[int, float]:
-    """(legend columns, height [in] of the legend band) for n_fingers (palm included)."""
-    width = LEFT_INCH + PANEL_INCH * n_columns + RIGHT_INCH
-    n_entries = n_fingers + LEGEND_FIXED_ENTRIES
-    n_legend_columns = max(1, min(n_entries, int(width // LEGEND_ENTRY_INCH)))
-    rows = -(-n_entries // n_legend_columns)
-    return n_legend_columns, LEGEND_ROW_INCH * rows + 0.15
-
-
-def figure_size(n_columns: int, n_fingers: int) -> tuple[float, float]:
-    """(width, height) [in] of the figure for n_columns moments and n_fingers real fingers
-    (palm included, they make the legend); times DPI gives pixels."""
-    width = LEFT_INCH + PANEL_INCH * n_columns + RIGHT_INCH
-    legend_inch = _legend_layout(n_columns, n_fingers)[1]
-    return width, TITLE_INCH + PANEL_INCH * len(VIEWS) + XLABEL_INCH + legend_inch
-
-
-def _contact_summary(snapshot: Snapshot) -> str:
+def contact_summary(snapshot: Snapshot) -> str:
+    """ "n contacts: finger k, ..." or "no contacts"."""
     if not len(snapshot.contact_fingers):
         return "no contacts"
     counts: dict[str, int] = {}
@@ -529,77 +292,49 @@ def _contact_summary(snapshot: Snapshot) -> str:
     return f"{total} contact{'s' if total != 1 else ''}: {listing}"
 
 
+ROW_LABELS = ("side", "from above", "palm frame, facing the palm")
+
+
 def draw_snapshots(
     path: Path, scene: SnapshotScene, snapshots: Sequence[Snapshot], title: str
 ) -> Path:
     """Draw the snapshots (one column each) in the three views (rows) to the PNG `path`,
     atomically; returns `path`. InputError (one line) for unusable input."""
-    from matplotlib.artist import Artist
-    from matplotlib.figure import Figure
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
-
     path = Path(path)
     if not snapshots:
         raise InputError("no snapshots to draw")
-    moments = _place_moments(scene, snapshots)
-    colours = finger_colours(scene.finger_of_link)
-
-    width, height = figure_size(len(moments), len(colours))
-    n_legend_columns, legend_inch = _legend_layout(len(moments), len(colours))
-    fig = Figure(figsize=(width, height), dpi=DPI)
-    fig.subplots_adjust(
-        left=LEFT_INCH / width,
-        right=1 - RIGHT_INCH / width,
-        top=1 - TITLE_INCH / height,
-        bottom=(legend_inch + XLABEL_INCH) / height,
-        wspace=0.25,
-        hspace=0.3,
-    )
-    axes = fig.subplots(len(VIEWS), len(moments), squeeze=False)
-    for row, view in enumerate(VIEWS):
-        frames = [moment.in_view_frame(view) for moment in moments]
-        limits = _limits(view, frames, scene, moments)
-        for column, (moment, frame) in enumerate(zip(moments, frames, strict=True)):
-            ax = axes[row][column]
-            _draw_panel(ax, view, frame, moment, scene, colours, limits)
-            ax.set_xlabel(view.xlabel, fontsize=8, labelpad=1)
-            if column == 0:
-                ax.set_ylabel(f"{view.name} view\n{view.ylabel}", fontsize=9)
-            else:  # same limits along the row: the first column's labels read for all
-                ax.tick_params(labelleft=False)
-            if row == 0:
-                label = moment.snapshot.label
-                if not _object_in_view(moment):
-                    label += " (object out of view)"
-                ax.set_title(f"{label}\n{_contact_summary(moment.snapshot)}", fontsize=10)
-
-    fig.suptitle(title, fontsize=12, wrap=True, y=1 - 0.1 / height, va="top")
-    handles: list[Artist] = [
-        Patch(facecolor=c, edgecolor="#202020", label=f) for f, c in colours.items()
+    colours = style.finger_colours(scene.finger_of_link)
+    moments = _place_moments(scene, snapshots, colours)
+    reference = moments[0].T_world_palm
+    arm_points = [box_corners(p) for m in moments for p in m.arm]
+    p_world_arm = np.concatenate(arm_points) if arm_points else None
+    rows = [
+        _world_views(moments, side_direction(reference, p_world_arm)),
+        _world_views(moments, above_direction(reference, p_world_arm)),
+        _palm_views(moments),
     ]
-    handles += [
-        Patch(facecolor=ARM_COLOUR, edgecolor="#202020", label="arm"),
-        Patch(facecolor=OBJECT_COLOUR, edgecolor=OBJECT_EDGE, label="object"),
-        Line2D([], [], color=TABLE_COLOUR, linewidth=3, label="table top"),
-        Line2D(
-            [],
-            [],
-            marker="o",
-            linestyle="none",
-            markerfacecolor=CONTACT_COLOUR,
-            markeredgecolor="black",
-            label="contact",
-        ),
-        Line2D([], [], color=PALM_Z_COLOUR, linewidth=2, label="palm +z"),
-        Line2D([], [], color=PALM_X_COLOUR, linewidth=2, label="palm +x"),
-    ]
-    assert len(handles) == len(colours) + LEGEND_FIXED_ENTRIES
-    fig.legend(
-        handles=handles, loc="lower center", ncol=n_legend_columns, fontsize=9, frameon=False
+    points = np.concatenate([m.framed_points() for m in moments])
+    centre_xy = (points.min(axis=0) + points.max(axis=0))[:2] / 2
+    table = Placed(table_soup(centre_xy, TABLE_HALF_SIZE, scene.table_height), np.eye(4))
+    panels = []
+    for views, with_table in zip(rows, (True, True, False), strict=True):
+        row = []
+        for moment, view in zip(moments, views, strict=True):
+            placed = [*moment.hand, *moment.arm, moment.object]
+            if with_table:
+                placed.append(table)
+            row.append(
+                render_panel(placed, view, moment.contacts_world, moment.T_world_palm, moment.hand)
+            )
+        panels.append(row)
+    headers = []
+    for moment in moments:
+        label = moment.snapshot.label
+        if not moment.object_near:
+            label += " (object out of view)"
+        headers.append(f"{label}\n{contact_summary(moment.snapshot)}")
+    with_arm = any(m.arm for m in moments)
+    sheet = compose(
+        title, headers, ROW_LABELS, panels, legend_entries(colours, with_arm, with_table=True)
     )
-
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with atomic_output(path) as stream:
-        fig.savefig(stream, format="png", dpi=DPI, metadata={"Software": None})
-    return path
+    return write_png(path, sheet)

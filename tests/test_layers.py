@@ -14,10 +14,11 @@ LAYERS = {
     "core": (
         "__init__", "errors", "transforms", "grasps", "contacts", "hal", "mounting",
         "robot_model", "files", "defaults", "shapes", "events", "plugins", "registry",
-        "results", "scene", "floating_base", "snapshots", "demo", "convex", "urdf_model",
-        "specs",
+        "results", "scene", "floating_base", "demo", "convex", "urdf_model", "specs",
     ),
-    "algorithms": ("motion", "metrics", "strategy", "vision", "testing", "checks"),
+    "algorithms": (
+        "motion", "metrics", "strategy", "vision", "testing", "checks", "pictures", "snapshots",
+    ),
     "runs": ("runner", "experiments"),
     "cli": ("cli",),
 }  # fmt: skip

@@ -22,6 +22,8 @@ from graspframe.robot_model import CollisionModel
 from graspframe.transforms import make_T
 from graspframe.urdf_model import read_model
 
+THIRD_PARTY = Path(__file__).resolve().parents[2] / "shared" / "third_party"
+LEAP_URDF = THIRD_PARTY / "hands" / "leap_hand" / "leap_hand_right.urdf"
 EXPECTED_ENTITIES = (
     "/world/table",
     "/world/object",
@@ -38,7 +40,7 @@ EXPECTED_ENTITIES = (
     "/vision/mask",
     "/log",
 )
-# Entities with one sample per motion cycle (besides each /world/robot/ shape).
+# Entities with one sample per motion cycle (besides each /world/robot/<link>).
 PER_CYCLE_ENTITIES = (
     "/world/object",
     "/world/palm_path",
@@ -122,10 +124,11 @@ def test_the_demo_runs_and_is_recorded(hand, tmp_path, monkeypatch):
     # A sample per control cycle, at its simulation time, on every per-cycle entity.
     samples = rrd_samples(run_dir / "recording.rrd")
     cycle_time_ns = [round(1e9 * t) for t in cycle_times]
-    robot_shapes = [entity for entity in samples if entity.startswith("/world/robot/")]
+    robot_links = [entity for entity in samples if entity.startswith("/world/robot/")]
     joints = [entity for entity in samples if entity.startswith("/plots/joints/")]
-    assert robot_shapes and joints
-    for entity in [*PER_CYCLE_ENTITIES, *robot_shapes, *joints]:
+    assert robot_links and joints
+    assert all(entity.count("/") == 3 for entity in robot_links)  # /world/robot/<link>
+    for entity in [*PER_CYCLE_ENTITIES, *robot_links, *joints]:
         times = [t for t, _ in samples[entity]]
         if entity == "/world/object":
             times = times[1:]  # its pose when the world was built comes first
@@ -245,7 +248,7 @@ def test_the_recording_takes_the_hand_and_object_from_the_run(fake_hand, fake_ha
     recording.finish({"status": "ok"})
     rows = rrd_rows(recording.path)
     assert "/world/object" in rows and "/plots/joints/fk_finger_joint" in rows
-    assert any(entity.startswith("/world/robot/fk_finger/") for entity in rows)
+    assert any(entity.startswith("/world/robot/fk_finger/collision/") for entity in rows)
 
 
 def _world_built(hand_urdf, T_world_object) -> dict:
@@ -318,22 +321,53 @@ def test_every_cycle_is_recorded_at_its_time_with_its_values(fake_hand, fake_han
 
     for T, data in zip(poses("/world/object"), cycles, strict=True):
         np.testing.assert_allclose(T, data["T_world_object"], atol=1e-6)
-    # Each collision shape where forward kinematics puts it, on the arm base.
+    # Each link where forward kinematics puts it, on the arm base; its meshes below it.
     model = CollisionModel(read_model(fake_hand_urdf))
     T_world_base = _world_built(fake_hand_urdf, make_T())["T_world_arm_base"]
-    shape_poses = []
-    for data in cycles:
-        model.place(fake_hand.with_model_followers(data["q_hand"]))
-        shape_poses.append([T_world_base @ T for _, _, T in model.shapes()])
-    for index, (link, _, _) in enumerate(model.shapes()):
-        recorded = poses(f"/world/robot/{link}/{index}")
-        expected = [poses_at_cycle[index] for poses_at_cycle in shape_poses]
-        np.testing.assert_allclose(recorded, expected, atol=1e-6)
+    links = sorted({link for link, _, _ in model.shapes()})
+    for link in links:
+        expected = []
+        for data in cycles:
+            model.place(fake_hand.with_model_followers(data["q_hand"]))
+            expected.append(T_world_base @ model.T_root_frame(link))
+        np.testing.assert_allclose(poses(f"/world/robot/{link}"), expected, atol=1e-6)
+        assert f"/world/robot/{link}/collision/0" not in samples  # static, moved by its link
     # The geometry is logged once, not per cycle.
     static = {chunk.entity_path for chunk in RrdReader(recording.path).stream() if chunk.is_static}
     assert "/world/object" in static and "/world/table" in static
+    assert {f"/world/robot/{link}/collision/0" for link in links} <= static
 
 
 def test_a_recording_needs_the_descriptions_of_its_run(tmp_path):
     with pytest.raises(GraspframeError, match="needs its hand and object"):
         RunRecording(RunInfo("r1", str(tmp_path), {"record": True}))
+
+
+def _albedo_alpha(path: Path) -> dict[str, int]:
+    """Mesh entity -> alpha [0, 255] of its albedo factor."""
+    alphas = {}
+    for chunk in RrdReader(path).stream():
+        batch = chunk.to_record_batch()
+        if "Mesh3D:albedo_factor" in batch.schema.names:
+            (rgba,) = batch.column("Mesh3D:albedo_factor").to_pylist()[0]
+            alphas[chunk.entity_path] = rgba & 0xFF
+    return alphas
+
+
+@pytest.mark.skipif(not LEAP_URDF.is_file(), reason="the third-party models are not here")
+def test_visual_meshes_are_recorded_with_the_collision_shapes_as_an_overlay(fake_hand, tmp_path):
+    can = ObjectDescription("unregistered_can", "cylinder", {"radius": 0.03, "length": 0.1}, 0.2)
+    recording = RunRecording(RunInfo("r1", str(tmp_path), {"record": True}, fake_hand, None, can))
+    T_world_object = make_T(p=[0.1, 0.0, 0.05])
+    world_built = _world_built(LEAP_URDF, T_world_object)
+    recording.handle(WORLD_BUILT.name, 0.0, world_built)
+    recording.finish({"status": "ok"})
+    alphas = _albedo_alpha(recording.path)
+    # The palm: its vendor mesh, opaque, and its collision boxes, see-through.
+    assert alphas["/world/robot/palm_lower/visual/0"] == 255
+    collision = [a for e, a in alphas.items() if e.startswith("/world/robot/palm_lower/collision/")]
+    assert collision and all(a < 128 for a in collision)
+    # Every link with a vendor mesh has it logged.
+    visual_links = {v.link for v in world_built["model"].visuals}
+    logged = {e.split("/")[3] for e in alphas if "/visual/" in e}
+    assert logged == visual_links

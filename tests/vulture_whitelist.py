@@ -19,6 +19,7 @@ from graspframe.hal.objects import ObjectDescription
 from graspframe.metrics.virtual_fingers import MatchedPair, VirtualFingerGrasp
 from graspframe.motion.arm_motion import LinearMoveResult
 from graspframe.motion.ik import IkSolver
+from graspframe.pictures.hand_grasp import draw_hand_grasp
 from graspframe.plugins.hookspecs import Register
 from graspframe.registry import Registry
 from graspframe.robot_model import CollisionModel
@@ -73,6 +74,10 @@ SapienHandDriver.held_leaders
 SapienWorld.teleport_hand
 FEATURE_NAMES
 write_demo
+
+# The picture of one hand around an object: the interface `graspframe check-hand` draws
+# its preshapes with (tests/test_pictures.py calls it).
+draw_hand_grasp
 
 # The run-event catalogue: its list and the prose of each kind and field are read by the
 # documentation test and by observers.

@@ -43,7 +43,7 @@ from graspframe.hal.drivers import Backend, WorldConfig
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.results import read_json_file, write_json
-from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
+from graspframe.snapshots import PICTURE_STYLE, Snapshot, draw_snapshots, scene_of_robot
 from graspframe.strategy import held_test
 from graspframe.strategy.executor import APPROACH_SPEED  # the robots' non-volar approach
 from graspframe.strategy.held_test import HeldVerdict
@@ -233,6 +233,8 @@ def _travel_time(
 
 def _cache_key(grasp: HumanGrasp, obj: ObjectDescription, human: HandDescription) -> str:
     digest = hashlib.sha256(f"procedure {PROCEDURE_VERSION}".encode())
+    # The cached entry keeps its picture: a new picture style makes a new entry.
+    digest.update(f"pictures {PICTURE_STYLE}".encode())
     digest.update(Path(human.model_path).read_bytes())
     digest.update(reference_placement(obj, human.preshape_for(grasp)).T_object_palm.tobytes())
     digest.update(repr(sorted(human.preshape_for(grasp).closed_q.items())).encode())

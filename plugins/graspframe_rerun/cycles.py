@@ -1,10 +1,11 @@
 """The motion cycles of a run, buffered and sent to rerun in columns.
 
 A control cycle only stores its samples (joint values, object pose, palm position,
-scalars); `flush` places the robot's collision shapes for all buffered cycles at once
-and sends each entity's samples in one `send_columns` call, on the "sim_time" timeline
-with the cycles' own times. (One `rr.log` per entity and cycle cost about as much as the
-rest of the run.)
+scalars); `flush` places the robot's links for all buffered cycles at once and sends
+each entity's samples in one `send_columns` call, on the "sim_time" timeline with the
+cycles' own times. (One `rr.log` per entity and cycle cost about as much as the rest of
+the run.) A link's pose goes to `world/robot/<link>`; its meshes, logged once below that
+entity in the link frame, move with it.
 """
 
 from __future__ import annotations
@@ -38,7 +39,7 @@ def transform_columns(T_world_x: np.ndarray) -> rr.ComponentColumnList:
 
 @dataclass
 class RobotPoser:
-    """Places a run's robot: the world poses of its collision shapes for joint values."""
+    """Places a run's robot: the world poses of its links for joint values."""
 
     model: CollisionModel
     T_world_base: np.ndarray
@@ -51,24 +52,24 @@ class RobotPoser:
         q.update(self.hand.with_model_followers(q_hand))
         return q
 
-    def T_world_shapes(self, q_by_joint: dict[str, float]) -> np.ndarray:
-        """(n_shapes, 4, 4) world poses of the collision shapes, in `model.shapes()` order."""
+    def T_world_links(self, q_by_joint: dict[str, float], links: Sequence[str]) -> np.ndarray:
+        """(n_links, 4, 4) world poses of `links`, in that order."""
         self.model.place(q_by_joint)
-        T_base_shapes = np.stack([T for _, _, T in self.model.shapes()])
-        return self.T_world_base @ T_base_shapes
+        T_base_links = np.stack([self.model.T_root_frame(link) for link in links])
+        return self.T_world_base @ T_base_links
 
 
 class MotionCycles:
     """Buffers motion.cycle samples and sends them to `stream` in columns on `flush`.
 
-    shape_entities: the entity of each collision shape, in `poser.model.shapes()` order.
+    links: the links whose poses are sent, each to the entity `world/robot/<link>`.
     The executed palm path grows over the whole run: each cycle's row is the path so far.
     """
 
-    def __init__(self, stream: rr.RecordingStream, poser: RobotPoser, shape_entities: list[str]):
+    def __init__(self, stream: rr.RecordingStream, poser: RobotPoser, links: Sequence[str]):
         self.stream = stream
         self.poser = poser
-        self.shape_entities = shape_entities
+        self.links = tuple(links)
         self.sim_time_s: list[float] = []
         self.q_by_joint: list[dict[str, float]] = []
         self.T_world_object: list[np.ndarray] = []
@@ -91,9 +92,9 @@ class MotionCycles:
         if not self.sim_time_s:
             return
         times = sim_time_column(self.sim_time_s)
-        T_world_shapes = np.stack([self.poser.T_world_shapes(q) for q in self.q_by_joint])
-        for index, entity in enumerate(self.shape_entities):
-            self._send(entity, times, transform_columns(T_world_shapes[:, index]))
+        T_world_links = np.stack([self.poser.T_world_links(q, self.links) for q in self.q_by_joint])
+        for index, link in enumerate(self.links):
+            self._send(f"world/robot/{link}", times, transform_columns(T_world_links[:, index]))
         self._send("world/object", times, transform_columns(np.stack(self.T_world_object)))
         self._send("world/palm_path", times, self._palm_path_columns())
         for name in dict.fromkeys(name for q in self.q_by_joint for name in q):

@@ -2,7 +2,12 @@
 
 Entity layout (all in the world frame, z up, metres):
     world/table, world/object                the table top and the object (true pose)
-    world/robot/<link>/<i>                   the robot's collision shapes, posed by FK
+    world/robot/<link>                       each link's pose (forward kinematics), per cycle
+    world/robot/<link>/visual/<i>            the link's visual meshes (the model's
+                                             <visual> elements, decimated), opaque
+    world/robot/<link>/collision/<i>         the link's collision shapes (the simulated
+                                             geometry): opaque for a link without visual
+                                             meshes, else a see-through overlay
     world/plan/{pre,goal,approach}           the planned palm path
     world/palm_path                          the executed palm path (one point per cycle)
     world/contacts/<real finger>             contact forces at the hold, as arrows
@@ -11,10 +16,11 @@ Entity layout (all in the world frame, z up, metres):
     plots/joints/<joint>, plots/palm_sensor, plots/distance_to_goal   scalars
     vision/input, vision/mask                classification image and hand mask
     log                                      the run's events as text
-Timeline "sim_time" [s]: simulation time of each sample. The static geometry (meshes of
-every collision shape, the table, the object) is logged once; the per-cycle samples
-(transforms, joint values, scalars) are buffered and sent in columns (cycles.py) before
-each further event and at the end of the run.
+Timeline "sim_time" [s]: simulation time of each sample. The static geometry (each
+link's meshes in the link frame, the table, the object) is logged once; the per-cycle
+samples (link transforms, joint values, scalars) are buffered and sent in columns
+(cycles.py) before each further event and at the end of the run. Hand links are coloured
+by real finger (a visual mesh keeps a tint of its material colour), arm links orange.
 The hand and the object come from the run's RunInfo; the events are those declared in
 graspframe/events.py.
 """
@@ -31,8 +37,10 @@ from graspframe.defaults import TABLE_HALF_SIZE
 from graspframe.errors import GraspframeError
 from graspframe.events import RunInfo
 from graspframe.grasps import PALM
+from graspframe.pictures.meshes import Surface, robot_meshes, vertex_normals
+from graspframe.pictures.style import tinted
 from graspframe.robot_model import CollisionModel
-from graspframe.shapes import geometry_mesh, object_mesh
+from graspframe.shapes import object_mesh
 from graspframe.transforms import quat_xyzw_from_R
 from graspframe_rerun.cycles import MotionCycles, RobotPoser
 
@@ -45,6 +53,8 @@ FINGER_COLOURS = {
     "little": (102, 166, 30),
 }
 FALLBACK_COLOURS = [(230, 171, 2), (166, 118, 29), (31, 120, 180), (251, 154, 153)]
+ARM_COLOUR = (235, 120, 20)
+COLLISION_OVERLAY_ALPHA = 70  # [0, 255] collision shapes over a link's visual meshes
 HUMAN_VF_OFFSET = np.array([0.0, 0.25, 0.0])  # [m] human virtual fingers beside the robot's
 FORCE_ARROW_SCALE = 0.005  # [m/N]
 
@@ -64,10 +74,17 @@ def _mesh_archetype(mesh, colour) -> rr.Mesh3D:
     )
 
 
-def _shape_archetype(shape, colour):
-    """A robot collision shape as a mesh; None when it cannot be meshed."""
-    mesh = geometry_mesh(shape)
-    return None if mesh is None else _mesh_archetype(mesh, colour)
+def _surface_archetype(surface: Surface, colour, alpha: int = 255) -> rr.Mesh3D:
+    """A link's mesh in the link frame, `colour` (0..255 RGB) tinted by the mesh's own
+    material colour; alpha < 255: see-through."""
+    base = tuple(c / 255.0 for c in colour)
+    rgb = tinted(base, surface.rgb)
+    return rr.Mesh3D(
+        vertex_positions=surface.vertices,
+        triangle_indices=surface.faces,
+        vertex_normals=vertex_normals(surface.vertices, surface.faces),
+        albedo_factor=(*(round(255 * c) for c in rgb), alpha),
+    )
 
 
 def _object_archetype(obj, colour=(200, 170, 60)):
@@ -159,31 +176,27 @@ class RunRecording:
             ),
             static=True,
         )
-        model = CollisionModel(data["model"])
+        model = data["model"]
         finger_of_link = self._hand.finger_of_link()
-        shape_entities = []
-        for index, (link, shape, _) in enumerate(model.shapes()):
-            colour = (
-                finger_colour(finger_of_link.get(link, "arm"))
-                if link in finger_of_link
-                else (
-                    235,
-                    120,
-                    20,
-                )
-            )
-            entity = f"world/robot/{link}/{index}"
-            archetype = _shape_archetype(shape, colour)
-            if archetype is not None:
-                self._log(entity, archetype, static=True)
-            shape_entities.append(entity)
+        links = []
+        for meshes in robot_meshes(model):
+            finger = finger_of_link.get(meshes.link)
+            colour = ARM_COLOUR if finger is None else finger_colour(finger)
+            entity = f"world/robot/{meshes.link}"
+            for i, surface in enumerate(meshes.visual):
+                self._log(f"{entity}/visual/{i}", _surface_archetype(surface, colour), static=True)
+            alpha = COLLISION_OVERLAY_ALPHA if meshes.visual else 255
+            for i, surface in enumerate(meshes.collision):
+                archetype = _surface_archetype(surface, colour, alpha)
+                self._log(f"{entity}/collision/{i}", archetype, static=True)
+            links.append(meshes.link)
         poser = RobotPoser(
-            model,
+            CollisionModel(model),
             np.asarray(data["T_world_arm_base"], dtype=float),
             tuple(data["arm_joint_names"]),
             self._hand,
         )
-        self._cycles = MotionCycles(self.stream, poser, shape_entities)
+        self._cycles = MotionCycles(self.stream, poser, links)
 
     def _on_plan_done(self, data: dict) -> None:
         pre = np.asarray(data["T_world_palm_pre"])[:3, 3]
