@@ -6,7 +6,10 @@ Three checks, in order, each reported with its verdict and what it measured:
    against the model, real fingers, couplings, preshapes within limits, the mapping of
    all six grasps, the palm frame's +z pointing out of the palm);
 2. closing each preshape in free space brings its opposed fingers together
-   (`grasp_checks.closing_gaps`): the gap of every pair, open and closed;
+   (`grasp_checks.closing_gaps`): the gap of every pair, open and closed; and a picture
+   of each preshape closed kinematically around its design object (every finger stops
+   where it first touches it: `hand_geometry.closing_configurations`), to see where the
+   fingers land before any physics runs;
 3. unless asked not to, the hand alone (on the floating base, no arm) holds each
    preshape's design object through the lift and the pushes of a real run, in the
    registered physics backend (`grasp_checks.hold_trials`): contacts per real finger,
@@ -29,7 +32,7 @@ import typer
 from graspframe import registry as registry_module
 from graspframe.defaults import DEFAULT_BACKEND
 from graspframe.grasps import HUMAN_HAND
-from graspframe.hal.descriptions import HandDescription, JointSpec
+from graspframe.hal.descriptions import HandDescription, HandPreshape, JointSpec
 from graspframe.hal.drivers import Backend
 from graspframe.registry import Registry
 from graspframe.testing import hand_problems
@@ -97,7 +100,7 @@ def _description_check(hand: HandDescription) -> CheckResult:
     )
 
 
-def _closing_check(hand: HandDescription) -> CheckResult:
+def _closing_check(hand: HandDescription, pictures: Path | None) -> CheckResult:
     result = CheckResult(
         f"closing in free space brings opposed fingers within {1000 * OPPOSED_MAX_GAP:.0f} mm",
         problems=closing_problems(hand),
@@ -109,7 +112,36 @@ def _closing_check(hand: HandDescription) -> CheckResult:
             for a, b in [g.fingers]
         )
         result.measured.append(f"{preshape.name}: {gaps}")
+        if pictures is not None and preshape.design_object is not None:
+            path = _draw_closing(pictures, hand, preshape)
+            result.measured.append(f"  picture: {path}")
     return result
+
+
+def _draw_closing(folder: Path, hand: HandDescription, preshape: HandPreshape) -> Path:
+    """The preshape closed kinematically around its design object, in the palm frame."""
+    import numpy as np
+
+    from graspframe.pictures.hand_grasp import draw_hand_grasp
+    from graspframe.strategy.hand_geometry import closing_configurations
+    from graspframe.strategy.reference_poses import R_object_palm_for_design
+    from graspframe.testing.grasp_checks import design_object
+    from graspframe.transforms import inv_T, make_T
+
+    assert preshape.design_object is not None
+    obj = design_object(preshape)
+    R_object_palm = R_object_palm_for_design(preshape.design_object)
+    T_palm_object = inv_T(
+        make_T(R_object_palm, -R_object_palm @ np.asarray(preshape.grasp_center_palm))
+    )
+    closed = closing_configurations(hand, preshape, obj, T_palm_object)[-1]
+    folder.mkdir(parents=True, exist_ok=True)
+    caption = (
+        f"{hand.name} {preshape.name}: closed around its design object without physics "
+        "(each finger stops where it first touches it)"
+    )
+    path = folder / f"{preshape.name}_closing.png"
+    return draw_hand_grasp(path, hand, closed, obj, T_palm_object, np.zeros((0, 3)), [], caption)
 
 
 def _hold_check(
@@ -177,8 +209,8 @@ def check_hand_report(
     reason = "the human hand's postures are checked by the reference procedure"
     if not checks[-1].passed:
         reason = "the description check failed"
-    checks.append(_closing_check(hand) if robot_hand and checks[-1].passed else CheckResult(
-        "closing in free space", skipped=reason))  # fmt: skip
+    checks.append(_closing_check(hand, pictures) if robot_hand and checks[-1].passed else
+                  CheckResult("closing in free space", skipped=reason))  # fmt: skip
     if backend is None:
         checks.append(CheckResult("holding the design objects", skipped="--no-hold"))
     elif robot_hand and checks[-1].passed:

@@ -77,7 +77,6 @@ write_demo
 
 # The picture of one hand around an object: the interface `graspframe check-hand` draws
 # its preshapes with (tests/test_pictures.py calls it).
-draw_hand_grasp
 
 # The run-event catalogue: its list and the prose of each kind and field are read by the
 # documentation test and by observers.
