@@ -19,7 +19,6 @@ from graspframe.hal.objects import ObjectDescription
 from graspframe.metrics.virtual_fingers import MatchedPair, VirtualFingerGrasp
 from graspframe.motion.arm_motion import LinearMoveResult
 from graspframe.motion.ik import IkSolver
-from graspframe.pictures.hand_grasp import draw_hand_grasp
 from graspframe.plugins.hookspecs import Register
 from graspframe.registry import Registry
 from graspframe.robot_model import CollisionModel
