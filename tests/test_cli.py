@@ -44,9 +44,13 @@ def test_bad_arguments_give_one_line_and_exit_1(command, message, capsys):
     assert message in " ".join(err.split())
 
 
-def test_check_hand_passes_on_a_builtin_hand(capsys):
+def test_check_hand_passes_on_a_builtin_hand(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # its pictures go to runs/check-hand/barrett
     assert main(["check-hand", "barrett"]) == 0
-    assert "hand barrett: all checks passed" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "hand barrett: 3 of 3 checks ran, all passed" in out and "3 of 3 held" in out
+    # One picture per preshape closed without physics, one per hold trial.
+    assert len(list((tmp_path / "runs" / "check-hand" / "barrett").glob("*.png"))) == 6
 
 
 def test_run_refuses_a_grasp_and_an_image_together(capsys, tmp_path):

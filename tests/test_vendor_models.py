@@ -36,8 +36,9 @@ def test_the_leap_hand_spec_passes_check_hand(leap_hand_dir, tmp_path, capsys):
     assert check_hand_command(str(LEAP_HAND_SPEC), pictures=tmp_path) == 0
     printed = capsys.readouterr().out
     assert "3 of 3 checks ran, all passed" in printed and "4 of 4 held" in printed
-    # One picture per hold trial, held or not.
-    assert len(list(tmp_path.glob("*.png"))) == 4
+    # One picture per preshape closed without physics, one per hold trial (held or not).
+    assert len(list(tmp_path.glob("*_closing.png"))) == 4
+    assert len(list(tmp_path.glob("*.png"))) == 8
     assert _digests(leap_hand_dir) == before
 
 
