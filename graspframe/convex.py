@@ -1,0 +1,292 @@
+"""A mesh file as convex pieces, computed once and cached on disk.
+
+Simulators and collision checkers work on convex shapes: PhysX cooks convex meshes of at
+most 255 vertices, coal's GJK works on convex shapes. `convex_pieces` turns a mesh file
+(OBJ, STL, GLB, PLY; metres after `scale`) into convex pieces, in the mesh file's own
+frame, by the first rule that applies:
+
+- `given_pieces`: a file whose connected parts are already convex pieces (e.g. a YCB
+  `textured_vhacd.stl`, a V-HACD decomposition merged into one file): split by
+  connectivity, each part replaced by its convex hull, slivers (parts whose hull is
+  degenerate or holds less than SLIVER_VOLUME_FRACTION of the total volume) dropped.
+  Method "given pieces".
+- a watertight mesh that is nearly convex (its hull's volume at most
+  NEARLY_CONVEX_RATIO times its own): its convex hull. Method "hull".
+- anything else: an approximate convex decomposition with CoACD (Wei et al., "Approximate
+  Convex Decomposition for 3D Meshes with Collision-Aware Concavity and Tree Search",
+  SIGGRAPH 2022), seed 0, concavity threshold COACD_THRESHOLD. Method "coacd". This can
+  take minutes on a 16k-face scan, hence the cache.
+
+Every piece is a closed convex hull of at most MAX_PIECE_VERTICES vertices: a hull with
+more is reduced by farthest-point sampling of its vertices, starting from its extreme
+points along the axes and the diagonals, and re-hulled. The reduced hull lies inside the
+original one (an inner approximation). Because the pieces are simplified here, PhysX
+does not change them when it cooks them, and the simulator, the collision checker and
+the pictures all see the same pieces.
+
+The cache: `<GRASPFRAME_CACHE_DIR or ~/.cache/graspframe>/decompositions/<key>/`, the key
+the SHA-256 of the decomposed file's bytes and every parameter above. An entry holds one
+OBJ file per piece (`piece_000.obj`, ...; loaders such as a URDF read files) and, written
+last, `manifest.json` (method, file names, the SHA-256 of each file). Every file is
+written atomically (graspframe.files); an entry without a manifest, or whose files do not
+match their recorded hashes, is not trusted and is rebuilt, so a process killed while
+writing never leaves an entry that is later used.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import logging
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import trimesh
+from numpy.typing import NDArray
+
+from graspframe.errors import DescriptionError
+from graspframe.files import atomic_write
+
+log = logging.getLogger(__name__)
+
+MESH_SUFFIXES = (".obj", ".stl", ".glb", ".ply")
+MAX_PIECE_VERTICES = 64  # PhysX cooks at most 255; fewer keeps contact generation fast
+SLIVER_VOLUME_FRACTION = 1e-4  # of the total volume of the given pieces
+NEARLY_CONVEX_RATIO = 1.02  # hull volume / mesh volume of a mesh taken as its hull
+COACD_THRESHOLD = 0.05  # CoACD's concavity threshold (its default)
+COACD_SEED = 0
+METHOD_HULL = "hull"
+METHOD_GIVEN = "given pieces"
+METHOD_COACD = "coacd"
+MANIFEST = "manifest.json"
+# Part of the cache key: bump it when the way pieces are made changes.
+PROCEDURE_VERSION = 1
+
+
+@dataclass(frozen=True)
+class ConvexPieces:
+    """Convex pieces of a mesh.
+
+    pieces: each a closed convex hull of at most MAX_PIECE_VERTICES vertices, in the mesh
+        file's frame [m] (after scale).
+    files: one OBJ file per piece in the cache (same order).
+    method: "hull", "given pieces" or "coacd".
+    """
+
+    pieces: tuple[trimesh.Trimesh, ...]
+    files: tuple[Path, ...]
+    method: str
+
+    @property
+    def vertices(self) -> NDArray[np.float64]:
+        """(n, 3) every piece's vertices [m], stacked."""
+        return np.concatenate([np.asarray(p.vertices, dtype=float) for p in self.pieces])
+
+
+def check_mesh_file(path: Path | str) -> Path:
+    """`path` when it names an existing file of a known mesh format; DescriptionError
+    otherwise (the file is not read)."""
+    path = Path(path)
+    if path.suffix.lower() not in MESH_SUFFIXES:
+        raise DescriptionError(
+            f"mesh file {path}: unknown format {path.suffix or '(no suffix)'!r}; "
+            f"mesh files are {', '.join(MESH_SUFFIXES)}"
+        )
+    if not path.is_file():
+        raise DescriptionError(f"mesh file {path} does not exist; give the path of a mesh file")
+    return path
+
+
+def load_mesh(path: Path | str, scale: Sequence[float] = (1.0, 1.0, 1.0)) -> trimesh.Trimesh:
+    """The triangles of a mesh file (OBJ, STL, GLB, PLY; a GLB's scene graph is applied
+    and its meshes merged), vertices times `scale` per axis and those at the same place
+    merged; materials and textures are not read. DescriptionError for a missing file, an unknown suffix or no triangles."""
+    path = check_mesh_file(path)
+    try:
+        loaded = trimesh.load(path, force="mesh", process=False, skip_materials=True)
+    except Exception as exc:
+        raise DescriptionError(f"mesh file {path} cannot be read: {exc}") from None
+    mesh = loaded if isinstance(loaded, trimesh.Trimesh) else None
+    if mesh is None or len(mesh.faces) == 0:
+        raise DescriptionError(f"mesh file {path} has no triangles")
+    vertices = np.asarray(mesh.vertices, dtype=float) * _scale(scale, path)
+    # process: vertices at the same place are merged (an STL stores each triangle's own,
+    # an OBJ splits them on texture seams), so connectivity and watertightness are real.
+    return trimesh.Trimesh(vertices, np.asarray(mesh.faces), process=True)
+
+
+def _scale(scale: Sequence[float], path: Path) -> NDArray[np.float64]:
+    s = np.asarray(scale, dtype=float).reshape(-1)
+    if s.shape != (3,) or not np.all(np.isfinite(s)) or not np.all(s > 0):
+        raise DescriptionError(
+            f"mesh file {path}: scale must be three finite numbers > 0 (x, y, z), got {scale}"
+        )
+    return s
+
+
+def convex_hull(points: NDArray[np.float64]) -> trimesh.Trimesh | None:
+    """The closed convex hull of points, with at most MAX_PIECE_VERTICES vertices (see the
+    module docstring); None when the points span no volume."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    points = np.asarray(points, dtype=float).reshape(-1, 3)
+    try:
+        corners = points[ConvexHull(points).vertices]
+        if len(corners) > MAX_PIECE_VERTICES:
+            corners = farthest_points(corners, MAX_PIECE_VERTICES)
+        mesh = trimesh.convex.convex_hull(corners)
+    except (QhullError, ValueError):
+        return None
+    if not (mesh.is_watertight and mesh.volume > 0):
+        return None
+    return mesh
+
+
+def farthest_points(points: NDArray[np.float64], count: int) -> NDArray[np.float64]:
+    """`count` of the points, spread out: first the extreme points along the axes and the
+    diagonals (up to 14), then repeatedly the point farthest from those chosen."""
+    directions = np.array(
+        [[1, 0, 0], [0, 1, 0], [0, 0, 1], *[[sx, sy, 1] for sx in (1, -1) for sy in (1, -1)]],
+        dtype=float,
+    )
+    directions = np.concatenate([directions, -directions])
+    chosen: list[int] = []
+    for index in np.argmax(points @ directions.T, axis=0):
+        if int(index) not in chosen and len(chosen) < count:
+            chosen.append(int(index))
+    distance = np.min(np.linalg.norm(points[:, None] - points[chosen][None], axis=2), axis=1)
+    while len(chosen) < count:
+        index = int(np.argmax(distance))
+        chosen.append(index)
+        distance = np.minimum(distance, np.linalg.norm(points - points[index], axis=1))
+    return points[chosen]
+
+
+def _given(path: Path, scale: Sequence[float]) -> list[trimesh.Trimesh]:
+    """The convex hulls of the connected parts of `path`, slivers dropped."""
+    mesh = load_mesh(path, scale)
+    parts = mesh.split(only_watertight=False)
+    hulls = [h for h in (convex_hull(p.vertices) for p in parts) if h is not None]
+    total = sum(h.volume for h in hulls)
+    kept = [h for h in hulls if h.volume >= SLIVER_VOLUME_FRACTION * total]
+    if not kept:
+        raise DescriptionError(f"convex pieces file {path} has no part with a volume")
+    log.info("%s: %d parts, %d convex pieces kept", path.name, len(parts), len(kept))
+    return kept
+
+
+def _decomposed(mesh: trimesh.Trimesh, path: Path) -> tuple[list[trimesh.Trimesh], str]:
+    """(pieces, method) of a mesh: its hull when it is nearly convex, else CoACD's."""
+    hull = convex_hull(mesh.vertices)
+    if hull is None:
+        raise DescriptionError(f"mesh file {path} is flat: it spans no volume")
+    if mesh.is_watertight and mesh.is_volume and mesh.volume > 0:
+        if trimesh.convex.convex_hull(mesh).volume <= NEARLY_CONVEX_RATIO * mesh.volume:
+            return [hull], METHOD_HULL
+    import coacd
+
+    log.info("%s: convex decomposition with CoACD (once; cached)", path.name)
+    coacd.set_log_level("error")
+    parts = coacd.run_coacd(
+        coacd.Mesh(np.asarray(mesh.vertices), np.asarray(mesh.faces)),
+        threshold=COACD_THRESHOLD,
+        max_ch_vertex=MAX_PIECE_VERTICES,
+        seed=COACD_SEED,
+    )
+    pieces = [h for h in (convex_hull(np.asarray(v)) for v, _ in parts) if h is not None]
+    if not pieces:
+        raise DescriptionError(f"mesh file {path}: the convex decomposition gave no piece")
+    return pieces, METHOD_COACD
+
+
+def _cache_key(source: Path, scale: Sequence[float], given: bool) -> str:
+    digest = hashlib.sha256(f"convex pieces {PROCEDURE_VERSION}".encode())
+    digest.update(source.read_bytes())
+    parameters = (
+        [float(s) for s in scale],
+        given,
+        MAX_PIECE_VERTICES,
+        SLIVER_VOLUME_FRACTION,
+        NEARLY_CONVEX_RATIO,
+        COACD_THRESHOLD,
+        COACD_SEED,
+    )
+    digest.update(repr(parameters).encode())
+    return digest.hexdigest()
+
+
+def decompositions_dir() -> Path:
+    """The cache folder of convex pieces (beside the combined models)."""
+    from graspframe.mounting import cache_dir
+
+    return cache_dir().parent / "decompositions"
+
+
+def _sha256(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _read_entry(folder: Path) -> ConvexPieces | None:
+    """The pieces of a complete, intact cache entry; None otherwise."""
+    try:
+        manifest = json.loads((folder / MANIFEST).read_text())
+        files = tuple(folder / name for name in manifest["files"])
+        if any(_sha256(f) != h for f, h in zip(files, manifest["sha256"], strict=True)):
+            return None
+        pieces = []
+        for f in files:
+            piece = trimesh.load(f, force="mesh", process=False)
+            if not isinstance(piece, trimesh.Trimesh) or len(piece.faces) == 0:
+                return None
+            pieces.append(piece)
+        method = str(manifest["method"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    return ConvexPieces(tuple(pieces), files, method)
+
+
+def _write_entry(folder: Path, pieces: list[trimesh.Trimesh], method: str) -> ConvexPieces:
+    folder.mkdir(parents=True, exist_ok=True)
+    files = []
+    for index, piece in enumerate(pieces):
+        path = folder / f"piece_{index:03d}.obj"
+        atomic_write(path, piece.export(file_type="obj", include_normals=False))
+        files.append(path)
+    manifest = {
+        "method": method,
+        "files": [f.name for f in files],
+        "sha256": [_sha256(f) for f in files],
+    }
+    atomic_write(folder / MANIFEST, json.dumps(manifest, indent=1))  # last: the entry is whole
+    # Read back what the others will read, so every caller sees the same numbers.
+    entry = _read_entry(folder)
+    if entry is None:
+        raise DescriptionError(f"the convex pieces written to {folder} cannot be read back")
+    return entry
+
+
+def convex_pieces(
+    mesh_path: Path | str,
+    scale: Sequence[float] = (1.0, 1.0, 1.0),
+    given_pieces: Path | str | None = None,
+) -> ConvexPieces:
+    """The convex pieces of a mesh file, from the cache when it holds them (see the module
+    docstring for the rules). mesh_path: the mesh; scale: per axis, applied to the file's
+    vertices (e.g. 0.001 for millimetres); given_pieces: a file of convex parts to use
+    instead of decomposing the mesh. DescriptionError for a file that cannot be used."""
+    check_mesh_file(mesh_path)
+    if given_pieces is not None:
+        check_mesh_file(given_pieces)
+    source = Path(given_pieces) if given_pieces is not None else Path(mesh_path)
+    _scale(scale, source)
+    folder = decompositions_dir() / _cache_key(source, scale, given_pieces is not None)
+    cached = _read_entry(folder)
+    if cached is not None:
+        return cached
+    if given_pieces is not None:
+        pieces, method = _given(source, scale), METHOD_GIVEN
+    else:
+        pieces, method = _decomposed(load_mesh(source, scale), source)
+    return _write_entry(folder, pieces, method)
