@@ -19,10 +19,13 @@ frame, by the first rule that applies:
 
 Every piece is a closed convex hull of at most MAX_PIECE_VERTICES vertices: a hull with
 more is reduced by farthest-point sampling of its vertices, starting from its extreme
-points along the axes and the diagonals, and re-hulled. The reduced hull lies inside the
-original one (an inner approximation). Because the pieces are simplified here, PhysX
-does not change them when it cooks them, and the simulator, the collision checker and
-the pictures all see the same pieces.
+points along the axes and the diagonals, and re-hulled. Then every vertex closer than
+PLANE_TOLERANCE to the hull of the others (nearly coplanar with a face of it) is
+dropped, closest first. The result lies inside the original hull (an inner
+approximation). PhysX builds its own hull when it cooks a convex mesh and drops the
+points it finds within its plane tolerance of the hull; with the pieces simplified here
+(and cooked at a larger scale, see the SAPIEN backend) it keeps every vertex, so the
+simulator, the collision checker and the pictures all see the same pieces.
 
 The cache: `<GRASPFRAME_CACHE_DIR or ~/.cache/graspframe>/decompositions/<key>/`, the key
 the SHA-256 of the decomposed file's bytes and every parameter above. An entry holds one
@@ -38,6 +41,7 @@ from __future__ import annotations
 import hashlib
 import json
 import logging
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -53,6 +57,7 @@ log = logging.getLogger(__name__)
 
 MESH_SUFFIXES = (".obj", ".stl", ".glb", ".ply")
 MAX_PIECE_VERTICES = 64  # PhysX cooks at most 255; fewer keeps contact generation fast
+PLANE_TOLERANCE = 1e-4  # [m] a vertex this close to the hull of the others is dropped
 SLIVER_VOLUME_FRACTION = 1e-4  # of the total volume of the given pieces
 NEARLY_CONVEX_RATIO = 1.02  # hull volume / mesh volume of a mesh taken as its hull
 COACD_THRESHOLD = 0.05  # CoACD's concavity threshold (its default)
@@ -136,12 +141,38 @@ def convex_hull(points: NDArray[np.float64]) -> trimesh.Trimesh | None:
         corners = points[ConvexHull(points).vertices]
         if len(corners) > MAX_PIECE_VERTICES:
             corners = farthest_points(corners, MAX_PIECE_VERTICES)
+        corners = without_flat_vertices(corners, PLANE_TOLERANCE)
         mesh = trimesh.convex.convex_hull(corners)
     except (QhullError, ValueError):
         return None
     if not (mesh.is_watertight and mesh.volume > 0):
         return None
     return mesh
+
+
+def _height_above_others(points: NDArray[np.float64], index: int) -> float:
+    """[m] how far points[index] lies outside the hull of the other points (the largest
+    signed distance to the planes of its faces); inf when the others span no volume."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        planes = ConvexHull(np.delete(points, index, axis=0)).equations
+    except (QhullError, ValueError):
+        return math.inf
+    return float((planes[:, :3] @ points[index] + planes[:, 3]).max())
+
+
+def without_flat_vertices(points: NDArray[np.float64], tolerance: float) -> NDArray[np.float64]:
+    """The hull vertices `points` without those closer than `tolerance` [m] to the hull
+    of the others, dropped one at a time, the closest first (a tetrahedron is kept)."""
+    points = np.asarray(points, dtype=float)
+    while len(points) > 4:
+        heights = [_height_above_others(points, i) for i in range(len(points))]
+        lowest = int(np.argmin(heights))
+        if heights[lowest] >= tolerance:
+            break
+        points = np.delete(points, lowest, axis=0)
+    return points
 
 
 def farthest_points(points: NDArray[np.float64], count: int) -> NDArray[np.float64]:
@@ -208,6 +239,7 @@ def _cache_key(source: Path, scale: Sequence[float], given: bool) -> str:
         [float(s) for s in scale],
         given,
         MAX_PIECE_VERTICES,
+        PLANE_TOLERANCE,
         SLIVER_VOLUME_FRACTION,
         NEARLY_CONVEX_RATIO,
         COACD_THRESHOLD,

@@ -7,10 +7,17 @@ import sapien
 from numpy.typing import NDArray
 
 from graspframe.defaults import TABLE_HALF_SIZE
+from graspframe.errors import GraspframeError
 from graspframe.hal.objects import ObjectDescription
+from graspframe.transforms import quat_wxyz_from_R
 from graspframe_sapien.poses import to_pose
 
 TABLE_FRICTION = (0.6, 0.5)  # static, dynamic [-]
+# Convex pieces are cooked this many times larger and scaled back by the shape's mesh
+# scale: PhysX drops hull points within its plane tolerance, a length in the cooked
+# mesh's units (about 1 mm at scale 1 on the YCB scans' pieces, 0.01 mm at 100), and
+# the pieces (graspframe/convex.py) keep no vertex closer than 0.1 mm to the others' hull.
+COOKING_SCALE = 100.0
 
 # SAPIEN's cylinder axis is its local x; object cylinders stand along the object's z.
 _X_TO_Z = sapien.Pose(q=[np.sqrt(0.5), 0.0, -np.sqrt(0.5), 0.0])
@@ -28,6 +35,8 @@ def build_table(scene: sapien.Scene, centre_xy: NDArray[np.float64], height: flo
 
 def build_object(scene: sapien.Scene, obj: ObjectDescription, T_world_object):
     """A dynamic actor of the object's shape, exact mass, friction; frame at its centroid."""
+    if obj.is_mesh:
+        return build_mesh_object(scene, obj, T_world_object)
     builder = scene.create_actor_builder()
     material = sapien.physx.PhysxMaterial(
         obj.static_friction, obj.dynamic_friction, obj.restitution
@@ -45,3 +54,41 @@ def build_object(scene: sapien.Scene, obj: ObjectDescription, T_world_object):
     actor = builder.build(name=obj.name)
     actor.set_pose(to_pose(T_world_object))
     return actor
+
+
+def build_mesh_object(scene: sapien.Scene, obj: ObjectDescription, T_world_object):
+    """A mesh object as a dynamic actor made of its convex pieces (the ones the collision
+    checker and the planner use: graspframe/convex.py, object frame), with the mass and
+    the inertia of the object set explicitly (the pieces overlap, so PhysX's own mass
+    from their volumes would count the overlaps twice)."""
+    material = sapien.physx.PhysxMaterial(
+        obj.static_friction, obj.dynamic_friction, obj.restitution
+    )
+    component = sapien.physx.PhysxRigidDynamicComponent()
+    for index, piece in enumerate(obj.mesh_geometry().pieces):
+        shape = sapien.physx.PhysxCollisionShapeConvexMesh(
+            vertices=np.asarray(piece.vertices * COOKING_SCALE, dtype=np.float32),
+            scale=np.full(3, 1.0 / COOKING_SCALE, dtype=np.float32),
+            material=material,
+        )
+        if len(shape.get_vertices()) != len(piece.vertices):
+            raise GraspframeError(
+                f"object {obj.name!r}: PhysX changed convex piece {index} when cooking it "
+                f"({len(piece.vertices)} vertices, {len(shape.get_vertices())} cooked); the "
+                "simulator would not see the pieces the planner uses"
+            )
+        component.attach(shape)
+    # Principal axes and moments of the inertia about the centroid (the frame origin).
+    moments, axes = np.linalg.eigh(obj.inertia)
+    if np.linalg.det(axes) < 0:
+        axes[:, 0] = -axes[:, 0]
+    component.mass = obj.mass
+    component.cmass_local_pose = sapien.Pose(q=quat_wxyz_from_R(axes))
+    component.inertia = moments
+    component.name = obj.name
+    entity = sapien.Entity()
+    entity.add_component(component)
+    entity.name = obj.name
+    entity.pose = to_pose(T_world_object)
+    scene.add_entity(entity)
+    return entity
