@@ -251,3 +251,34 @@ def display_mesh(geometry: MeshGeometry, mesh_path: Path, scale: Sequence[float]
     s = (float(scale[0]), float(scale[1]), float(scale[2]))
     key = np.ascontiguousarray(geometry.T_mesh_object, dtype=float).tobytes()
     return _display_mesh(mesh_path, s, key, _stamp((mesh_path,))).copy()
+
+
+@functools.lru_cache(maxsize=4)
+def _textured_mesh(mesh_path: Path, scale: tuple[float, float, float], T_key: bytes, _stamp):
+    T_object_mesh = inv_T(np.frombuffer(T_key).reshape(4, 4))
+    try:
+        loaded = trimesh.load(mesh_path, force="mesh", process=False)
+        colours = np.asarray(loaded.visual.to_color().vertex_colors, dtype=np.uint8)
+    except Exception:  # no texture, or one that cannot be read: geometry only
+        return None
+    if not isinstance(loaded, trimesh.Trimesh) or colours.shape != (len(loaded.vertices), 4):
+        return None
+    vertices = np.asarray(loaded.vertices, dtype=float) * np.asarray(scale)
+    mesh = trimesh.Trimesh(vertices, np.asarray(loaded.faces), process=False)
+    mesh.apply_transform(T_object_mesh)
+    return mesh, colours
+
+
+def textured_display_mesh(geometry: MeshGeometry, mesh_path: Path, scale: Sequence[float]):
+    """(visual mesh in the object frame [m], RGBA colours (n, 4) of its vertices): the
+    colours of its texture (or of its vertices) when the file has one, read with its
+    material; otherwise the display mesh and None. Slower than `display_mesh` (a texture
+    is decoded): for recordings."""
+    mesh_path = Path(mesh_path).resolve()
+    s = (float(scale[0]), float(scale[1]), float(scale[2]))
+    key = np.ascontiguousarray(geometry.T_mesh_object, dtype=float).tobytes()
+    found = _textured_mesh(mesh_path, s, key, _stamp((mesh_path,)))
+    if found is None:
+        return display_mesh(geometry, mesh_path, scale), None
+    mesh, colours = found
+    return mesh.copy(), colours.copy()

@@ -162,6 +162,18 @@ def object_mesh(obj: ObjectDescription) -> trimesh.Trimesh:
     return primitive_mesh(obj.shape, obj.dimensions)
 
 
+def textured_object_mesh(obj: ObjectDescription):
+    """(display mesh in the object frame, RGBA vertex colours (n, 4) or None): a mesh
+    object's visual mesh with the colours of its texture when it has one (a texture is
+    decoded: slower than `object_mesh`); a primitive's surface and None."""
+    if obj.is_mesh:
+        from graspframe.mesh_geometry import textured_display_mesh
+
+        assert obj.mesh_path is not None
+        return textured_display_mesh(obj.mesh_geometry(), obj.mesh_path, obj.scale)
+    return primitive_mesh(obj.shape, obj.dimensions), None
+
+
 def object_collision_meshes(obj: ObjectDescription) -> tuple[trimesh.Trimesh, ...]:
     """The object's collision geometry in the object frame [m]: a mesh object's convex
     pieces (the simulator's, the collision checker's, the planner's), a primitive's

@@ -10,11 +10,13 @@ per view:
 
 Each panel shows the orthographic projection of the robot's collision shapes (hand links
 coloured by real finger, palm grey; arm links slate, only those near the palm), the object
-(yellow), the table (thick black line at the table top, grey below; in the palm view the
+(yellow; a mesh object as its display mesh, `graspframe.shapes.object_mesh`, its
+triangles shaded by how squarely they face the viewer), the table (thick black line at the table top, grey below; in the palm view the
 table plane's intersection with the palm x-z plane), the object contacts (red dots), and
 the palm axes at the palm origin (red arrow: palm +z, blue arrow: palm +x; 3 cm each).
 Every shape is a convex primitive, so its projection is the 2-D convex hull of points
-sampled on its surface; shapes are painted far to near along the viewing axis. The rows
+sampled on its surface; shapes are painted far to near along the viewing axis (a mesh
+object's triangles far to near among themselves, at the object's place). The rows
 keep the same limits in all columns, so moments compare directly.
 
 Drawn with a bare `matplotlib.figure.Figure` (Agg canvas): no pyplot global state, no 3-D
@@ -29,12 +31,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import trimesh
 from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError, InputError
 from graspframe.files import atomic_output
 from graspframe.hal.objects import SHAPES
-from graspframe.shapes import geometry_mesh, primitive_mesh
+from graspframe.shapes import geometry_mesh, object_mesh, primitive_mesh
 from graspframe.transforms import inv_T, transform_points
 
 FAR_OBJECT = 0.5  # [m] an object further from the palm is left out of the framing
@@ -74,6 +77,8 @@ class SnapshotScene:
     object_dimensions: [m] box: size_x, size_y, size_z; cylinder: radius, length;
         sphere: radius.
     table_height: [m] world z of the table top (the table is the half-space below).
+    object_mesh: a mesh object's display mesh in the object frame (drawn instead of the
+        shape; object_shape is then "mesh").
     """
 
     urdf_path: Path
@@ -84,6 +89,7 @@ class SnapshotScene:
     object_shape: str
     object_dimensions: Mapping[str, float]
     table_height: float
+    object_mesh: trimesh.Trimesh | None = None
 
 
 def scene_of_robot(urdf_path: Path, T_world_root, hand, obj, table_height: float) -> SnapshotScene:
@@ -98,6 +104,7 @@ def scene_of_robot(urdf_path: Path, T_world_root, hand, obj, table_height: float
         object_shape=obj.shape,
         object_dimensions=obj.dimensions,
         table_height=table_height,
+        object_mesh=object_mesh(obj) if obj.is_mesh else None,
     )
 
 
@@ -173,6 +180,18 @@ class Solid:
         d.append(np.linalg.norm(self.disc_centres - p, axis=1) - self.disc_radii)
         d = np.concatenate(d)
         return float(d.min()) if d.size else math.inf
+
+
+@dataclass(frozen=True)
+class Surface:
+    """A triangle mesh drawn triangle by triangle (a mesh object's display mesh)."""
+
+    vertices: NDArray[np.float64]  # (n, 3)
+    faces: NDArray[np.int64]  # (m, 3)
+
+    def moved(self, T_a_b: NDArray[np.float64]) -> Surface:
+        """This surface (given in frame b) expressed in frame a."""
+        return Surface(transform_points(T_a_b, self.vertices).reshape(-1, 3), self.faces)
 
 
 _ANGLES = np.linspace(0, 2 * np.pi, RING_POINTS, endpoint=False)
@@ -262,7 +281,7 @@ class _Moment:
     snapshot: Snapshot
     T_world_palm: NDArray[np.float64]
     link_solids: list[tuple[str, Solid]]  # world frame, hand links and near arm links
-    object_world: Solid
+    object_world: Solid | Surface
     contacts_world: NDArray[np.float64]
 
     def in_view_frame(self, view: View):
@@ -310,7 +329,12 @@ def _place_moments(scene: SnapshotScene, snapshots: Sequence[Snapshot]) -> list[
     from graspframe.robot_model import CollisionModel
 
     T_world_root = _pose(scene.T_world_root, "scene T_world_root")
-    solid_object = object_solid(scene.object_shape, scene.object_dimensions)
+    solid_object: Solid | Surface
+    if scene.object_mesh is not None:
+        mesh = scene.object_mesh
+        solid_object = Surface(np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces))
+    else:
+        solid_object = object_solid(scene.object_shape, scene.object_dimensions)
     checked = [
         (s, _pose(s.T_world_object, f"snapshot {s.label!r}: T_world_object"), _contacts(s))
         for s in snapshots
@@ -381,7 +405,10 @@ def _limits(view: View, frames, scene: SnapshotScene, moments) -> tuple[float, f
     outlines = []
     for (_, links, object_solid_view, _), moment in zip(frames, moments, strict=True):
         if _object_in_view(moment):
-            outlines.append(project(object_solid_view, view)[0])
+            if isinstance(object_solid_view, Surface):
+                outlines.append(project_points(object_solid_view.vertices, view))
+            else:
+                outlines.append(project(object_solid_view, view)[0])
         outlines.extend(project(s, view)[0] for link, s in links if link in scene.finger_of_link)
     points = np.concatenate(outlines)
     low, high = points.min(axis=0), points.max(axis=0)
@@ -432,14 +459,17 @@ def _draw_panel(ax, view: View, frame, moment: _Moment, scene, colours, limits) 
         )
         ax.plot([a[0], b[0]], [a[1], b[1]], color=TABLE_COLOUR, linewidth=3, zorder=1)
 
-    items = []  # (nearness, polygon, face colour, edge colour, edge width)
+    items: list = []  # (nearness, polygon, face colour, edge colour, edge width)
     for link, solid in links:
         polygon, nearness = project(solid, view)
         finger = scene.finger_of_link.get(link)
         colour = ARM_COLOUR if finger is None else colours.get(finger, PALM_COLOUR)
-        items.append((nearness, polygon, colour, "#202020", 0.5))
-    polygon, nearness = project(object_view, view)
-    items.append((nearness, polygon, OBJECT_COLOUR, OBJECT_EDGE, 1.2))
+        items.append(((nearness, 0.0), polygon, colour, "#202020", 0.5))
+    if isinstance(object_view, Surface):
+        items.extend(_surface_items(object_view, view))
+    else:
+        polygon, nearness = project(object_view, view)
+        items.append(((nearness, 0.0), polygon, OBJECT_COLOUR, OBJECT_EDGE, 1.2))
     items.sort(key=lambda item: item[0])  # far first: near shapes paint over them
     ax.add_collection(
         PolyCollection(
@@ -489,6 +519,31 @@ def _draw_panel(ax, view: View, frame, moment: _Moment, scene, colours, limits) 
     ax.yaxis.set_major_locator(MaxNLocator(nbins=4))
     ax.tick_params(labelsize=8)
     ax.grid(True, linewidth=0.3, color="#bbbbbb", zorder=-1)
+
+
+def _surface_items(surface: Surface, view: View) -> list:
+    """Painter items of a surface's triangles that face the viewer: at the surface's
+    nearness among the other shapes, far to near among themselves, shaded."""
+    from matplotlib.colors import to_rgb
+
+    towards_viewer = np.asarray(view.towards_viewer, dtype=float)
+    triangles = surface.vertices[surface.faces]  # (m, 3, 3)
+    normals = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    lengths = np.linalg.norm(normals, axis=1)
+    facing = normals @ towards_viewer
+    keep = (lengths > 0) & (facing > 0)
+    if not keep.any():
+        return []
+    nearness = float((surface.vertices @ towards_viewer).mean())
+    depth = triangles[keep].mean(axis=1) @ towards_viewer
+    light = 0.55 + 0.45 * facing[keep] / lengths[keep]
+    base = np.array(to_rgb(OBJECT_COLOUR))
+    polygons = triangles[keep][:, :, [view.right, view.up]]
+    # Each triangle edged in its own colour: no seams between neighbours.
+    return [
+        ((nearness, float(d)), polygon, tuple(base * shade), tuple(base * shade), 0.3)
+        for d, polygon, shade in zip(depth, polygons, light, strict=True)
+    ]
 
 
 def _legend_layout(n_columns: int, n_fingers: int) -> tuple[int, float]:

@@ -84,5 +84,6 @@ def reference_placement(obj: ObjectDescription, posture: HandPreshape) -> Refere
     R = R_object_palm_for_design(design)
     normal_in_object = R[:, 2]
     p_palm_grasp = np.array(design.centre, dtype=float)
-    p_palm_grasp[2] += obj.extent_along(normal_in_object) - _design_extent_along_normal(design)
+    # The object's face towards the palm: its extent back along the palm normal.
+    p_palm_grasp[2] += obj.extent_along(-normal_in_object) - _design_extent_along_normal(design)
     return ReferencePlacement(make_T(R, -R @ p_palm_grasp), p_palm_grasp)

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.objects import ObjectDescription
+from graspframe import shapes
 from graspframe.shapes import geometry_primitive, unit_primitive, unit_scale
 from graspframe.transforms import inv_T, transform_points
 
@@ -64,7 +65,10 @@ def primitive(kind: str, scale_xyz) -> Mesh:
 
 
 def object_mesh(obj: ObjectDescription) -> Mesh:
-    """The object's surface in its own frame (centroid, cylinders along z) [m]."""
+    """The object's surface in its own frame (centroid, cylinders along z) [m]: a
+    primitive exactly as before, a mesh object's display mesh (graspframe.shapes)."""
+    if obj.is_mesh:
+        return _unindexed(shapes.object_mesh(obj), smooth=True)
     return primitive(obj.shape, unit_scale(obj.shape, obj.dimensions))
 
 
