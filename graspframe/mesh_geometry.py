@@ -7,8 +7,9 @@ mesh, e.g. a scan) and its convex pieces (graspframe/convex.py), all in metres:
   watertight, so its own volume and centroid are unreliable; the pieces are closed, but
   they overlap, so their volumes cannot simply be added. The union is sampled on a grid
   of VOXELS_ACROSS cells across the object's largest extent (about 1 mm for a 10 cm
-  object): each convex piece marks, column by column, the cells whose centres lie inside
-  it, and the marked cells are counted once. Volume, centroid and inertia are those of
+  object), centred on the pieces' bounding box: each convex piece marks, column by
+  column, the cells whose centres lie inside it, and the marked cells are counted once.
+  A single piece (a convex mesh) is measured exactly instead (trimesh). Volume, centroid and inertia are those of
   the marked cells at uniform density (each cell a small cube). On the six YCB scans of
   the tests, halving the cell changes the centroid by less than 0.1 mm and the inertia
   by less than 1 %.
@@ -102,12 +103,21 @@ def union_mass_properties(
     pieces: Sequence[trimesh.Trimesh], cells_across: int = VOXELS_ACROSS
 ) -> _Solid:
     """Volume [m^3], centroid [m] and inertia per mass about it [m^2] of the union of
-    convex pieces, sampled on a grid (see the module docstring)."""
+    convex pieces, sampled on a grid (see the module docstring); one piece exactly."""
+    if len(pieces) == 1 and pieces[0].is_volume:
+        piece = pieces[0]
+        return _Solid(
+            float(piece.volume),
+            np.asarray(piece.center_mass, dtype=float),
+            np.asarray(piece.moment_inertia, dtype=float) / float(piece.volume),
+        )
     points = np.concatenate([np.asarray(p.vertices, dtype=float) for p in pieces])
     low, high = points.min(axis=0), points.max(axis=0)
     pitch = float((high - low).max()) / cells_across
     counts = np.maximum(1, np.ceil((high - low) / pitch).astype(int))
-    centres = [low[i] + pitch * (np.arange(counts[i]) + 0.5) for i in range(3)]
+    # The grid centred on the pieces' bounding box: it overhangs both sides equally.
+    start = (low + high) / 2 - counts * pitch / 2
+    centres = [start[i] + pitch * (np.arange(counts[i]) + 0.5) for i in range(3)]
     inside = np.zeros(counts, dtype=bool)
     for piece in pieces:
         _mark_inside(piece, centres, inside)
