@@ -109,7 +109,8 @@ def check_mesh_file(path: Path | str) -> Path:
 def load_mesh(path: Path | str, scale: Sequence[float] = (1.0, 1.0, 1.0)) -> trimesh.Trimesh:
     """The triangles of a mesh file (OBJ, STL, GLB, PLY; a GLB's scene graph is applied
     and its meshes merged), vertices times `scale` per axis and those at the same place
-    merged; materials and textures are not read. DescriptionError for a missing file, an unknown suffix or no triangles."""
+    merged; materials and textures are not read. DescriptionError for a missing file,
+    an unknown suffix or no triangles."""
     path = check_mesh_file(path)
     try:
         loaded = trimesh.load(path, force="mesh", process=False, skip_materials=True)
@@ -215,9 +216,9 @@ def _decomposed(mesh: trimesh.Trimesh, path: Path) -> tuple[list[trimesh.Trimesh
     hull = convex_hull(mesh.vertices)
     if hull is None:
         raise DescriptionError(f"mesh file {path} is flat: it spans no volume")
-    if mesh.is_watertight and mesh.is_volume and mesh.volume > 0:
-        if trimesh.convex.convex_hull(mesh).volume <= NEARLY_CONVEX_RATIO * mesh.volume:
-            return [hull], METHOD_HULL
+    solid = mesh.is_watertight and mesh.is_volume and mesh.volume > 0
+    if solid and trimesh.convex.convex_hull(mesh).volume <= NEARLY_CONVEX_RATIO * mesh.volume:
+        return [hull], METHOD_HULL
     import coacd
 
     log.info("%s: convex decomposition with CoACD (once; cached)", path.name)
@@ -286,7 +287,7 @@ def _write_entry(folder: Path, pieces: list[trimesh.Trimesh], method: str) -> Co
     files = []
     for index, piece in enumerate(pieces):
         path = folder / f"piece_{index:03d}.obj"
-        atomic_write(path, piece.export(file_type="obj", include_normals=False))
+        atomic_write(path, trimesh.exchange.obj.export_obj(piece, include_normals=False))
         files.append(path)
     manifest = {
         "method": method,

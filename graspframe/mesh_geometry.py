@@ -9,10 +9,10 @@ mesh, e.g. a scan) and its convex pieces (graspframe/convex.py), all in metres:
   of VOXELS_ACROSS cells across the object's largest extent (about 1 mm for a 10 cm
   object), centred on the pieces' bounding box: each convex piece marks, column by
   column, the cells whose centres lie inside it, and the marked cells are counted once.
-  A single piece (a convex mesh) is measured exactly instead (trimesh). Volume, centroid and inertia are those of
-  the marked cells at uniform density (each cell a small cube). On the six YCB scans of
-  the tests, halving the cell changes the centroid by less than 0.1 mm and the inertia
-  by less than 1 %.
+  Volume, centroid and inertia are those of the marked cells at uniform density (each
+  cell a small cube). On the six YCB scans of the tests, halving the cell changes the
+  centroid by less than 0.1 mm and the inertia by less than 1 %. A single piece (a
+  convex mesh) is measured exactly instead (trimesh).
 - Object frame: origin at that centroid. Its axes are the mesh file's axes when the mesh
   stands stably as the file has it (z up: the centroid lies over its support polygon,
   the hull of the pieces' points within SUPPORT_TOLERANCE of their lowest point, by at
@@ -128,9 +128,7 @@ def union_mass_properties(
     centroid = cells.mean(axis=0)
     r = cells - centroid
     # Point masses at the cell centres plus each cell's own inertia (a cube: pitch^2/6).
-    inertia = (np.eye(3) * (r * r).sum(axis=1).mean() - r.T @ r / len(r)) + np.eye(
-        3
-    ) * pitch**2 / 6
+    inertia = (np.eye(3) * (r * r).sum(axis=1).mean() - r.T @ r / len(r)) + np.eye(3) * pitch**2 / 6
     return _Solid(len(index[0]) * pitch**3, centroid, inertia)
 
 
@@ -268,10 +266,17 @@ def _textured_mesh(mesh_path: Path, scale: tuple[float, float, float], T_key: by
     T_object_mesh = inv_T(np.frombuffer(T_key).reshape(4, 4))
     try:
         loaded = trimesh.load(mesh_path, force="mesh", process=False)
-        colours = np.asarray(loaded.visual.to_color().vertex_colors, dtype=np.uint8)
+        if not isinstance(loaded, trimesh.Trimesh):
+            return None
+        visual = loaded.visual
+        if isinstance(visual, trimesh.visual.TextureVisuals):
+            visual = visual.to_color()
+        if not isinstance(visual, trimesh.visual.ColorVisuals):
+            return None
+        colours = np.asarray(visual.vertex_colors, dtype=np.uint8)
     except Exception:  # no texture, or one that cannot be read: geometry only
         return None
-    if not isinstance(loaded, trimesh.Trimesh) or colours.shape != (len(loaded.vertices), 4):
+    if colours.shape != (len(loaded.vertices), 4):
         return None
     vertices = np.asarray(loaded.vertices, dtype=float) * np.asarray(scale)
     mesh = trimesh.Trimesh(vertices, np.asarray(loaded.faces), process=False)

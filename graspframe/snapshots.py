@@ -11,8 +11,9 @@ per view:
 Each panel shows the orthographic projection of the robot's collision shapes (hand links
 coloured by real finger, palm grey; arm links slate, only those near the palm), the object
 (yellow; a mesh object as its display mesh, `graspframe.shapes.object_mesh`, its
-triangles shaded by how squarely they face the viewer), the table (thick black line at the table top, grey below; in the palm view the
-table plane's intersection with the palm x-z plane), the object contacts (red dots), and
+triangles shaded by how squarely they face the viewer), the table (thick black line at
+the table top, grey below; in the palm view the table plane's intersection with the
+palm x-z plane), the object contacts (red dots), and
 the palm axes at the palm origin (red arrow: palm +z, blue arrow: palm +x; 3 cm each).
 Every shape is a convex primitive, so its projection is the 2-D convex hull of points
 sampled on its surface; shapes are painted far to near along the viewing axis (a mesh

@@ -14,7 +14,7 @@ LAYERS = {
     "core": (
         "__init__", "errors", "transforms", "grasps", "contacts", "hal", "mounting",
         "robot_model", "files", "defaults", "shapes", "events", "plugins", "registry",
-        "results", "scene", "floating_base", "snapshots", "demo",
+        "results", "scene", "floating_base", "snapshots", "demo", "convex", "mesh_geometry",
     ),
     "algorithms": ("motion", "metrics", "strategy", "vision", "testing", "checks"),
     "runs": ("runner", "experiments"),

@@ -38,15 +38,22 @@ pytestmark = pytest.mark.skipif(
     reason=f"the YCB scans are not at {YCB_DIR} (set GRASPFRAME_TEST_YCB_DIR)",
 )
 REGISTRY = default_registry()
-# The hand that holds each object in the held test below (the 24 runs of both hands on
-# both mounts are in docs/objects.md).
+# The hand of the held test below, for each object (the quicker of the two where both
+# hold; the 24 runs of both hands on both mounts are in docs/objects.md).
 HELD_BY = {
-    "005_tomato_soup_can": "barrett",
-    "006_mustard_bottle": "karlsruhe",
+    "005_tomato_soup_can": "karlsruhe",
+    "006_mustard_bottle": "barrett",
     "011_banana": "karlsruhe",
-    "025_mug": "barrett",
-    "056_tennis_ball": "karlsruhe",
+    "025_mug": "karlsruhe",
+    "056_tennis_ball": "barrett",
     "061_foam_brick": "barrett",
+}
+# Strict: an object that starts to hold fails the suite until it is taken off the list.
+NOT_HELD = {
+    "011_banana": (
+        "the pinch takes the 36 mm banana about 10 mm above its widest section: the whole "
+        "hand must stay 10 mm above the table over the closing motion (docs/objects.md)"
+    ),
 }
 
 
@@ -132,9 +139,7 @@ def _held(obj, hand_name: str):
     grasp = obj.documented_grasps()[0]
     placement = reference_placement(obj, human.preshape_for(grasp))
     T_world_object = make_T(p=[*SCENE_OBJECT_XY, TABLE_HEIGHT + obj.half_height])
-    checked = floating_plan(
-        grasp, placement.T_object_palm, T_world_object, hand, obj, TABLE_HEIGHT
-    )
+    checked = floating_plan(grasp, placement.T_object_palm, T_world_object, hand, obj, TABLE_HEIGHT)
     config = WorldConfig(
         hand=hand,
         object=obj,
@@ -149,7 +154,15 @@ def _held(obj, hand_name: str):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("folder", sorted(HELD_BY))
+@pytest.mark.parametrize(
+    "folder",
+    [
+        pytest.param(f, marks=pytest.mark.xfail(reason=NOT_HELD[f], strict=True))
+        if f in NOT_HELD
+        else f
+        for f in sorted(HELD_BY)
+    ],
+)
 def test_each_object_is_held_in_its_documented_grasp(objects, folder):
     outcome = _held(objects[folder], HELD_BY[folder])
     assert outcome.held_after_lift, outcome.failure_reason

@@ -15,9 +15,9 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
+from graspframe import shapes
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.objects import ObjectDescription
-from graspframe import shapes
 from graspframe.shapes import geometry_primitive, unit_primitive, unit_scale
 from graspframe.transforms import inv_T, transform_points
 

@@ -114,8 +114,7 @@ def ycb_objects(root: Path) -> list[ObjectDescription]:
         )
     if unknown:
         log.warning(
-            "%s: %d YCB objects have no mass in graspframe_ycb's table and are not "
-            "registered: %s",
+            "%s: %d YCB objects have no mass in graspframe_ycb's table and are not registered: %s",
             YCB_DIR_ENV,
             len(unknown),
             ", ".join(unknown),
