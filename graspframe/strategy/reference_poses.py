@@ -92,7 +92,9 @@ def reference_placement(obj: ObjectDescription, posture: HandPreshape) -> Refere
         )
     R = R_object_palm_for_design(design)
     if abs(R[2, 2]) < 1e-9:  # the palm normal is horizontal: a side grasp
-        R = _Rz(_narrowest_side_yaw(obj)) @ R
+        yaw = _narrowest_side_yaw(obj)
+        if yaw:
+            R = _Rz(yaw) @ R
     normal_in_object = R[:, 2]
     p_palm_grasp = np.array(design.centre, dtype=float)
     # The object's face towards the palm: its extent back along the palm normal.
