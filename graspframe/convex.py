@@ -54,10 +54,10 @@ from numpy.typing import NDArray
 
 from graspframe.errors import DescriptionError
 from graspframe.files import atomic_write
+from graspframe.hal.objects import MESH_SUFFIXES
 
 log = logging.getLogger(__name__)
 
-MESH_SUFFIXES = (".obj", ".stl", ".glb", ".ply")
 MAX_PIECE_VERTICES = 64  # PhysX cooks at most 255; fewer keeps contact generation fast
 PLANE_TOLERANCE = 1e-3  # [m] a vertex this close to the hull of the others is dropped
 SLIVER_VOLUME_FRACTION = 1e-4  # of the total volume of the given pieces

@@ -157,3 +157,35 @@ def test_bad_object_arguments_give_one_line_and_exit_1(command, message, capsys)
     err = capsys.readouterr().err.strip()
     assert err.startswith("error: ") and err.count("error: ") == 1  # one message (wrapped)
     assert message in " ".join(err.split())
+
+
+def test_the_summary_of_a_sweep_over_objects_names_the_object(tmp_path):
+    from graspframe.experiments.summary import COLUMNS, summarize, write_tables
+
+    rows = [
+        {
+            "trial_id": f"arm/barrett/{grasp}/A/{name}",
+            "hand": "barrett",
+            "grasp": grasp,
+            "condition": "A",
+            "mount": "arm",
+            "object": name,
+            "status": "ok",
+            "success": held,
+            "held_after_lift": held,
+        }
+        for name, grasp, held in (("can", "large_diameter", True), ("brick", "pinch", False))
+    ]
+    summary = summarize(rows)
+    assert [(r["object"], r["grasp"], r["A_success"]) for r in summary] == [
+        ("can", "large_diameter", True),
+        ("brick", "pinch", False),
+    ]
+    csv_path, md_path = write_tables(summary, tmp_path)
+    header = csv_path.read_text().splitlines()[0].split(",")
+    assert header == [*COLUMNS[:3], "object", *COLUMNS[3:]]
+    lines = md_path.read_text().splitlines()
+    assert lines[0].startswith("| mount | hand | grasp | object | A held |")
+    assert lines[2].startswith("| arm | barrett | large_diameter | can | yes |")
+    assert lines[3].startswith("| arm | barrett | pinch | brick | no |")
+    assert lines[1].count("|---") == lines[0].count("|") - 1

@@ -28,7 +28,7 @@ SHAPES = {
     "sphere": ("radius",),
 }
 MESH = "mesh"
-MESH_SUFFIXES = (".obj", ".stl", ".glb", ".ply")
+MESH_SUFFIXES = (".obj", ".stl", ".glb", ".ply")  # mesh files read (graspframe/convex.py)
 
 
 @dataclass(frozen=True)
@@ -184,7 +184,8 @@ class ObjectDescription:
         be."""
         if self.is_mesh:
             low, high = self.mesh_geometry().bounds
-            return tuple(float(v) for v in (high - low) / 2)  # type: ignore[return-value]
+            x, y, z = (float(v) for v in (high - low) / 2)
+            return (x, y, z)
         d = self.dimensions
         if self.shape == "box":
             return (d["size_x"] / 2, d["size_y"] / 2, d["size_z"] / 2)
