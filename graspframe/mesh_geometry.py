@@ -85,6 +85,17 @@ class MeshGeometry:
         """(2, 3) lowest and highest corner of the pieces in the object frame [m]."""
         return np.array([self.points.min(axis=0), self.points.max(axis=0)])
 
+    @functools.cached_property
+    def fingerprint(self) -> str:
+        """SHA-256 of what the simulator is given: the files' content, the object frame,
+        the inertia and every piece (cache keys of results that depend on them)."""
+        digest = hashlib.sha256(self.content_sha256.encode())
+        digest.update(np.ascontiguousarray(self.T_mesh_object, dtype=float).tobytes())
+        digest.update(np.ascontiguousarray(self.inertia_per_mass, dtype=float).tobytes())
+        for piece in self.pieces:
+            digest.update(np.ascontiguousarray(piece.vertices, dtype=float).tobytes())
+        return digest.hexdigest()
+
     def extent_along(self, n_object) -> float:
         """[m] support function of the pieces: the farthest any of them reaches from the
         centroid along the unit direction n_object (object frame)."""
