@@ -314,7 +314,10 @@ def evaluate(
     hands: Annotated[
         str, typer.Option(help="Comma-separated hands: registered names or spec files (*.toml).")
     ] = "barrett,karlsruhe",
-    grasps: Annotated[str, typer.Option(help="Comma-separated grasps, or 'all'.")] = "all",
+    grasps: Annotated[
+        str | None,
+        typer.Option(help="Comma-separated grasps, or 'all' (the default without --objects)."),
+    ] = None,
     arm: Annotated[
         str, typer.Option(help="Arm of the arm mount: a registered name or a spec file (*.toml).")
     ] = DEFAULT_ARM,
@@ -322,8 +325,11 @@ def evaluate(
         float, typer.Option(help="Object position error of experiment B [mm].")
     ] = 50.0,
     directions: Annotated[
-        int, typer.Option(help="Directions of the error in the table plane.")
-    ] = 6,
+        int | None,
+        typer.Option(
+            help="Directions of the error in the table plane (default 6; 0 with --objects)."
+        ),
+    ] = None,
     workers: Annotated[int, typer.Option(help="Trials run in parallel.")] = 2,
     executor: Annotated[str, typer.Option(help="local (processes here) or dask.")] = "local",
     scheduler: Annotated[
@@ -349,6 +355,14 @@ def evaluate(
             "('' for none)."
         ),
     ] = "",
+    objects: Annotated[
+        str,
+        typer.Option(
+            help="Comma-separated objects to run instead of the grasps' default objects, "
+            "each with the grasps documented for it (docs/objects.md), e.g. "
+            "'ycb_005_tomato_soup_can,ycb_025_mug'; experiment A unless --directions."
+        ),
+    ] = "",
 ) -> None:
     """Experiments A (perfect perception) and B (object position error) for the hands."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
@@ -360,12 +374,20 @@ def evaluate(
 
     registry = default_registry()
     registry.get_arm(arm)  # an unknown arm or a spec that does not load fails before any trial
+    object_names = _names_option(objects, "object", registry.names("object")) if objects else ()
+    if object_names and grasps is not None:
+        raise InputError(
+            "--objects runs each object's documented grasps; leave out --grasps "
+            f"(got --grasps {grasps})"
+        )
+    all_grasps = [g.value for g in HumanGrasp]
+    grasp_names = () if object_names else _names_option(grasps or "all", "grasp", all_grasps)
     config = SweepConfig(
         hands=_names_option(hands, "hand", registry.names("hand")),
-        grasps=_names_option(grasps, "grasp", [g.value for g in HumanGrasp]),
+        grasps=grasp_names,
         out_dir=out,
         rho=rho_mm / 1000.0,
-        directions=directions,
+        directions=(0 if object_names else 6) if directions is None else directions,
         workers=workers,
         executor=executor,
         scheduler=scheduler,
@@ -375,6 +397,7 @@ def evaluate(
         mounts=_names_option(mount, "mount", list(MOUNTS)),
         sizes=_sizes_option(sizes),
         arm=arm,
+        objects=object_names,
     )
     total = len(plan_trials(config))
     with Progress(

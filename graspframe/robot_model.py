@@ -49,7 +49,7 @@ def load_pinocchio_model(model: UrdfModel, mimic: bool = False):
         raise DescriptionError(f"Pinocchio cannot load {model.describe()}: {exc}") from exc
 
 
-def collision_geometry(model: UrdfModel, pinocchio_model):
+def collision_geometry_model(model: UrdfModel, pinocchio_model):
     """Pinocchio's collision geometry model of `model`, every mesh as a coal `Convex`
     (the meshes are convex pieces: graspframe/convex.py)."""
     import coal
@@ -124,7 +124,7 @@ class CollisionModel:
         self._pin = pin
         self.urdf = urdf
         self.model = load_pinocchio_model(urdf, mimic=False)
-        self.geometry = collision_geometry(urdf, self.model)
+        self.geometry = collision_geometry_model(urdf, self.model)
         self.data = self.model.createData()
         self.geometry_data = pin.GeometryData(self.geometry)
         self.q = pin.neutral(self.model)

@@ -1,12 +1,16 @@
 """Shapes converted once: primitives and collision geometries as triangle meshes (trimesh)
-and as coal collision shapes.
+and as coal collision shapes; an object's display mesh and its collision pieces.
 
 A primitive is a shape name and its dimensions [m] in `ObjectDescription`'s convention:
 "box" (size_x, size_y, size_z: full sizes), "cylinder" (radius, length; axis along its z)
 or "sphere" (radius), centred on its own frame. A collision geometry is a coal shape as
 Pinocchio's geometry model holds it (Box, Cylinder, Sphere, Capsule, Cone, centred on
-their frame, and Convex pieces of meshes; any other kind is meshed as its local bounding
-box).
+their frame; Convex as its hull; any other kind is meshed as its local bounding box).
+
+An object (ObjectDescription) has one display mesh, `object_mesh` (a mesh object's
+visual mesh, e.g. the textured scan; a primitive's surface), and one collision geometry,
+`object_collision_meshes` (a mesh object's convex pieces, the ones the simulator, the
+collision checker and the planner use; a primitive's surface), both in the object frame.
 
 The renderer, the rerun recording, the snapshot pictures, the hand geometry and the
 hand drawings all take their meshes from here.
@@ -16,10 +20,14 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
 import trimesh
 from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from graspframe.hal.objects import ObjectDescription
 
 CYLINDER_SECTIONS = 20  # sides of a meshed cylinder, cone or capsule
 SPHERE_SUBDIVISIONS = 2  # icosphere subdivisions of a meshed sphere
@@ -133,7 +141,56 @@ def coal_geometry(shape: str, dimensions: Mapping[str, float]):
     raise ValueError(f"unknown primitive {shape!r}; primitives are box, cylinder, sphere")
 
 
-def object_mesh(obj) -> trimesh.Trimesh:
-    """The surface of an object (an `ObjectDescription`) in its object frame [m], as
-    pictures draw it."""
+def coal_convex(mesh: trimesh.Trimesh):
+    """A closed convex mesh (e.g. a convex piece) as a coal Convex with exactly its
+    vertices and triangles, in the mesh's frame."""
+    import coal
+
+    points = coal.StdVec_Vec3s()
+    for p in np.asarray(mesh.vertices, dtype=float):
+        points.append(p)
+    triangles = coal.StdVec_Triangle()
+    for a, b, c in np.asarray(mesh.faces):
+        triangles.append(coal.Triangle(int(a), int(b), int(c)))
+    return coal.Convex(points, triangles)
+
+
+def object_mesh(obj: ObjectDescription) -> trimesh.Trimesh:
+    """The object's display mesh in the object frame [m]: a mesh object's visual mesh
+    (its mesh file, recentred and turned to its rest pose), a primitive's surface. A new
+    mesh each call (the caller may change it)."""
+    if obj.is_mesh:
+        from graspframe.mesh_geometry import display_mesh
+
+        assert obj.mesh_path is not None
+        return display_mesh(obj.mesh_geometry(), obj.mesh_path, obj.scale)
     return primitive_mesh(obj.shape, obj.dimensions)
+
+
+def textured_object_mesh(obj: ObjectDescription):
+    """(display mesh in the object frame, RGBA vertex colours (n, 4) or None): a mesh
+    object's visual mesh with the colours of its texture when it has one (a texture is
+    decoded: slower than `object_mesh`); a primitive's surface and None."""
+    if obj.is_mesh:
+        from graspframe.mesh_geometry import textured_display_mesh
+
+        assert obj.mesh_path is not None
+        return textured_display_mesh(obj.mesh_geometry(), obj.mesh_path, obj.scale)
+    return primitive_mesh(obj.shape, obj.dimensions), None
+
+
+def object_collision_meshes(obj: ObjectDescription) -> tuple[trimesh.Trimesh, ...]:
+    """The object's collision geometry in the object frame [m]: a mesh object's convex
+    pieces (the simulator's, the collision checker's, the planner's), a primitive's
+    surface (one mesh; the simulator and the checker use the exact primitive)."""
+    if obj.is_mesh:
+        return tuple(piece.copy() for piece in obj.mesh_geometry().pieces)
+    return (primitive_mesh(obj.shape, obj.dimensions),)
+
+
+def object_coal_geometries(obj: ObjectDescription) -> list:
+    """The object's coal collision shapes, each placed at the object frame: a mesh
+    object's convex pieces as coal Convex shapes, a primitive as its coal primitive."""
+    if obj.is_mesh:
+        return [coal_convex(piece) for piece in obj.mesh_geometry().pieces]
+    return [coal_geometry(obj.shape, obj.dimensions)]

@@ -19,7 +19,7 @@ from graspframe.mounting import mount
 from graspframe.registry import default_registry
 from graspframe.robot_model import (
     CollisionModel,
-    collision_geometry,
+    collision_geometry_model,
     load_pinocchio_model,
     summarize_urdf,
 )
@@ -118,7 +118,7 @@ def test_a_hand_mounts_through_its_adapters(hand_name, mounting_name):
     T_base_root = data.oMf[pinocchio_model.getFrameId(hand.root_link)].homogeneous
     # The URDF holds 9 significant digits: a quarter turn is off by ~4e-9 rad.
     np.testing.assert_allclose(T_base_root, T_base_flange @ mounting.T_flange_hand, atol=1e-8)
-    geometry = collision_geometry(robot.model, pinocchio_model)
+    geometry = collision_geometry_model(robot.model, pinocchio_model)
     geometry_data = pin.GeometryData(geometry)
     pin.updateGeometryPlacements(pinocchio_model, data, geometry, geometry_data, q)
     placed = [

@@ -16,6 +16,7 @@ from graspframe.grasps import HumanGrasp
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.drivers import ArmDriver
 from graspframe.hal.objects import ObjectDescription
+from graspframe.mesh_geometry import MeshGeometry
 from graspframe.metrics.virtual_fingers import MatchedPair, VirtualFingerGrasp
 from graspframe.motion.arm_motion import LinearMoveResult
 from graspframe.motion.ik import IkSolver
@@ -37,6 +38,9 @@ ruckig.InputParameter.target_acceleration
 faiss.IndexHNSW.efConstruction
 faiss.IndexHNSW.efSearch
 coal.CollisionRequest.security_margin
+sapien.physx.PhysxRigidDynamicComponent.max_depenetration_velocity
+sapien.physx.PhysxRigidDynamicComponent.cmass_local_pose
+MeshGeometry.upright_as_scanned  # read by the tests: the rest pose a person finds
 coal.DistanceRequest.enable_signed_distance
 sapien.URDFLoader.fix_root_link
 sapien.physx.PhysxArticulationLinkComponent.disable_gravity

@@ -8,6 +8,9 @@ after the lift and under the disturbance), "lift only" (held after the lift, sli
 when pushed), or "no" with the failure reason. The sweep that writes the file:
 
     graspframe evaluate --mount arm,floating --sizes 75,125 --out runs/evaluate
+
+For a sweep over objects (`graspframe evaluate --objects ...`) it prints one table, a
+row per object and grasp, a column per hand and mount.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ import sys
 from pathlib import Path
 
 from graspframe.experiments.sweep import load_finished
+from graspframe.experiments.trials import CONDITION_A, swept_object
 from graspframe.grasps import HumanGrasp
 from graspframe.registry import default_registry
 
@@ -54,12 +58,35 @@ def held_rows(trials: list[dict], hand: str) -> list[str]:
     return rows
 
 
+def object_rows(trials: list[dict]) -> list[str]:
+    """Markdown table rows (header included) of the experiment-A trials of a sweep over
+    objects: a row per object and grasp, a column per hand and mount, and the count."""
+    chosen = [t for t in trials if t["condition"] == CONDITION_A]
+    columns = sorted({(t["hand"], t["mount"]) for t in chosen}, key=lambda c: (c[0], c[1]))
+    rows = [
+        "| object | grasp | " + " | ".join(f"{h} {m}" for h, m in columns) + " |",
+        "|---|---|" + "---|" * len(columns),
+    ]
+    by_key = {(t["object"], t["grasp"], t["hand"], t["mount"]): t for t in chosen}
+    for name, grasp in sorted({(t["object"], t["grasp"]) for t in chosen}):
+        cells = [by_key.get((name, grasp, h, m)) for h, m in columns]
+        rows.append(
+            f"| {name} | {grasp} | " + " | ".join(_outcome(c) if c else "-" for c in cells) + " |"
+        )
+    held = sum(bool(t.get("success")) for t in chosen)
+    rows += ["", f"held: {held} of {len(chosen)}"]
+    return rows
+
+
 def main(argv: list[str]) -> int:
     if not argv:
         print(__doc__)
         return 2
     path = Path(argv[0])
     trials = list(load_finished(path).values())  # a line cut short by a kill is skipped
+    if any(swept_object(t["condition"], t.get("object")) for t in trials):
+        print("\n".join(object_rows(trials)))
+        return 0
     hands = argv[1:] or sorted({t["hand"] for t in trials})
     for hand in hands:
         print(f"{hand}:\n")

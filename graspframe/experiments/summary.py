@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from graspframe.experiments.trials import swept_object
 from graspframe.files import atomic_output, atomic_write
 
 COLUMNS = (
@@ -50,19 +51,24 @@ def size_conditions(rows: list[dict]) -> list[str]:
     return sorted(found)
 
 
+OBJECT = "object"  # the column of a sweep over objects, after "grasp"
+
+
 def summarize(rows: list[dict]) -> list[dict]:
-    """One summary row per (mount, hand, grasp), in the order the trials were planned.
+    """One summary row per (mount, hand, grasp), in the order the trials were planned;
+    in a sweep over objects, per (mount, hand, grasp, object), with an "object" entry.
 
     A_success: held (after the lift and under the disturbance) in experiment A; the two
     parts are reported separately too. B_successes / B_held_after_lift: counts over the
     B directions. A<size>_success: experiment A on the object at <size> percent."""
-    groups: dict[tuple[str, str, str], list[dict]] = {}
+    groups: dict[tuple[str, str, str, str | None], list[dict]] = {}
     for row in rows:
-        key = (row.get("mount", "arm"), row["hand"], row["grasp"])
+        chosen = swept_object(row["condition"], row.get("object"))
+        key = (row.get("mount", "arm"), row["hand"], row["grasp"], chosen)
         groups.setdefault(key, []).append(row)
     sizes = size_conditions(rows)
     summary = []
-    for (mount, hand, grasp), trials in groups.items():
+    for (mount, hand, grasp, chosen), trials in groups.items():
         a = next((t for t in trials if t["condition"] == "A"), {})
         b = [t for t in trials if t["condition"].startswith("B")]
         failures = [t for t in trials if t.get("status") != "ok" or not t.get("success")]
@@ -90,6 +96,8 @@ def summarize(rows: list[dict]) -> list[dict]:
             "B_robot_vf_mean": _mean(t.get("robot_vf") for t in b),
             "failures": len(failures),
         }
+        if chosen is not None:
+            entry[OBJECT] = chosen
         for condition in sizes:
             trial = next((t for t in trials if t["condition"] == condition), {})
             entry[f"{condition}_success"] = trial.get("success")
@@ -133,28 +141,33 @@ def _held(success, after_lift) -> str:
 def write_tables(summary: list[dict], out_dir: Path) -> tuple[Path, Path]:
     """summary.csv and summary.md in out_dir."""
     csv_path, md_path = Path(out_dir) / "summary.csv", Path(out_dir) / "summary.md"
-    size_columns = [k for k in (summary[0] if summary else {}) if k not in COLUMNS]
+    objects = any(OBJECT in row for row in summary)
+    size_columns = [k for k in (summary[0] if summary else {}) if k not in (*COLUMNS, OBJECT)]
+    columns = [*COLUMNS[:3], OBJECT, *COLUMNS[3:]] if objects else list(COLUMNS)
     table = io.StringIO(newline="")
-    writer = csv.DictWriter(table, fieldnames=[*COLUMNS, *size_columns])
+    writer = csv.DictWriter(table, fieldnames=[*columns, *size_columns])
     writer.writeheader()
     for row in summary:
         writer.writerow({k: ("" if row.get(k) is None else row[k]) for k in writer.fieldnames})
     atomic_write(csv_path, table.getvalue())
     sizes = [k.removesuffix("_success") for k in size_columns if k.endswith("_success")]
     size_headers = "".join(f" | A held at {int(c[1:])}%" for c in sizes)
+    object_header = " | object" if objects else ""
     lines = [
-        "| mount | hand | grasp | A held | A pos err [mm] | A ori err [deg] | A VF robot/human "
+        f"| mount | hand | grasp{object_header} | A held | A pos err [mm] | A ori err [deg] "
+        "| A VF robot/human "
         "| A epsilon robot/human | A volume robot/human | A human held "
         "| B held (lift) | B pos err [mm] | B ori err [deg] | B VF robot (mean)"
         f"{size_headers} | failures |",
-        "|---" * (15 + len(sizes)) + "|",
+        "|---" * (15 + objects + len(sizes)) + "|",
     ]
     for r in summary:
         size_cells = "".join(
             f" | {_held(r[f'{c}_success'], r[f'{c}_held_after_lift'])}" for c in sizes
         )
+        object_cell = f" | {r.get(OBJECT, '-')}" if objects else ""
         lines.append(
-            f"| {r['mount']} | {r['hand']} | {r['grasp']} "
+            f"| {r['mount']} | {r['hand']} | {r['grasp']}{object_cell} "
             f"| {_held(r['A_success'], r['A_held_after_lift'])} "
             f"| {_cell(r['A_position_err_mm'])} | {_cell(r['A_orientation_err_deg'])} "
             f"| {_cell(r['A_robot_vf'])}/{_cell(r['A_human_vf'])} "
@@ -188,9 +201,9 @@ def plot_summary(summary: list[dict], path: Path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    grasps = list(dict.fromkeys(r["grasp"] for r in summary))
+    grasps = list(dict.fromkeys(_group(r) for r in summary))
     hands = list(dict.fromkeys((r["mount"], r["hand"]) for r in summary))
-    by_key = {(r["mount"], r["hand"], r["grasp"]): r for r in summary}
+    by_key = {(r["mount"], r["hand"], _group(r)): r for r in summary}
     x = np.arange(len(grasps))
     fig, axes = plt.subplots(3, 1, figsize=(10, 10), sharex=True)
     # One colour per hand and mount in every panel; B hatched, and left out when no B ran.
@@ -219,7 +232,7 @@ def plot_summary(summary: list[dict], path: Path) -> Path:
     for i, (mount, hand) in enumerate(hands):
         values = [by_key.get((mount, hand, g), {}).get("A_robot_epsilon") for g in grasps]
         _bars(ax, x, i, len(hands), values, f"{hand} ({mount})", colour[mount, hand], False)
-    human = [next((r["A_human_epsilon"] for r in summary if r["grasp"] == g), None) for g in grasps]
+    human = [next((r["A_human_epsilon"] for r in summary if _group(r) == g), None) for g in grasps]
     ax.hlines(
         [v if v is not None else np.nan for v in human],
         x - 0.45,
@@ -242,6 +255,12 @@ def plot_summary(summary: list[dict], path: Path) -> Path:
         fig.savefig(stream, format=Path(path).suffix.lstrip(".") or "png", dpi=100)
     plt.close(fig)
     return path
+
+
+def _group(row: dict) -> str:
+    """A bar group of the figure: the grasp, or in a sweep over objects the object and
+    the grasp."""
+    return f"{row[OBJECT]}\n{row['grasp']}" if OBJECT in row else row["grasp"]
 
 
 def _bars(ax, x, index: int, count: int, values, label: str, colour: str, hatched: bool) -> None:

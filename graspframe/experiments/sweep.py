@@ -41,7 +41,10 @@ class SweepConfig:
     Dask scheduler address (None: a local Dask cluster); time_limit: per trial [s];
     record: write a rerun recording of every trial; mounts: "arm" and/or "floating";
     sizes: [%] object sizes besides 100 at which experiment A is repeated, on the
-    catalogue's scaled objects <default object>_<size> (e.g. 75 -> large_cylinder_075)."""
+    catalogue's scaled objects <default object>_<size> (e.g. 75 -> large_cylinder_075);
+    objects: object names to run instead of the grasps' default objects, each with the
+    grasps documented for it (`ObjectDescription.documented_grasps`; `grasps` must then
+    be empty, and sizes too)."""
 
     hands: tuple[str, ...]
     grasps: tuple[str, ...]
@@ -57,6 +60,7 @@ class SweepConfig:
     record: bool = False
     mounts: tuple[str, ...] = (MOUNT_ARM,)
     sizes: tuple[int, ...] = ()
+    objects: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.executor not in EXECUTORS:
@@ -72,6 +76,11 @@ class SweepConfig:
             )
         if any(not 0 < size <= 999 or size == 100 for size in self.sizes):
             raise InputError(f"sizes are percentages in 1..999 other than 100, got {self.sizes}")
+        if self.objects and (self.grasps or self.sizes):
+            raise InputError(
+                "a sweep over objects runs each object's own grasps at its own size; "
+                "give --objects without --grasps and --sizes"
+            )
 
 
 def plan_trials(config: SweepConfig) -> list[TrialSpec]:
@@ -82,6 +91,8 @@ def plan_trials(config: SweepConfig) -> list[TrialSpec]:
     runs_dir = str(Path(config.out_dir) / "runs")
     conditions = [(CONDITION_A, (0.0, 0.0))]
     conditions += experiment_b_errors(config.rho, config.directions)
+    if config.objects:
+        return _object_trials(config, conditions, runs_dir)
     specs = []
     for mount in config.mounts:
         for hand in config.hands:
@@ -109,6 +120,47 @@ def plan_trials(config: SweepConfig) -> list[TrialSpec]:
                             )
                         )
     return specs
+
+
+def object_grasps(name: str) -> tuple[str, ...]:
+    """The grasps documented for the registered object `name`; InputError when it has
+    none (UnknownNameError for an unknown name, listing the known ones)."""
+    from graspframe.registry import default_registry
+
+    obj = default_registry().get_object(name)
+    grasps = obj.documented_grasps()
+    if not grasps:
+        raise InputError(
+            f"object {name!r} has no documented grasp (ObjectDescription.grasps or "
+            "default_for): a sweep over objects runs the grasps a person would use on it"
+        )
+    return tuple(g.value for g in grasps)
+
+
+def _object_trials(
+    config: SweepConfig, conditions: list[tuple[str, tuple[float, float]]], runs_dir: str
+) -> list[TrialSpec]:
+    """Per mount, hand, object and its documented grasp: A, then B0.."""
+    grasps = {name: object_grasps(name) for name in config.objects}
+    return [
+        TrialSpec(
+            hand,
+            grasp,
+            condition,
+            error,
+            seed=config.seed,
+            runs_dir=runs_dir,
+            arm=config.arm,
+            record=config.record,
+            mount=mount,
+            object=name,
+        )
+        for mount in config.mounts
+        for hand in config.hands
+        for name in config.objects
+        for grasp in grasps[name]
+        for condition, error in conditions
+    ]
 
 
 def size_condition(size: int) -> str:

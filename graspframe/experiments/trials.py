@@ -26,9 +26,10 @@ class TrialSpec:
     """hand, grasp; condition "A" (perfect perception), "B<k>" (object error rho in
     direction beta_k) or "A<size>" (perfect perception on the object scaled to <size>
     percent, e.g. "A075"); object_error: [m] (dx, dy) the robot adds to the object
-    position; object: the object's name (None: the grasp's default object); mount: "arm"
-    or "floating"; record: write a rerun recording of the trial (off by default: sweeps
-    are for numbers)."""
+    position; object: the object's name (None: the grasp's default object; with "A" or
+    "B<k>" it is part of the trial id: a sweep over objects); mount: "arm" or
+    "floating"; record: write a rerun recording of the trial (off by default: sweeps are
+    for numbers)."""
 
     hand: str
     grasp: str
@@ -43,7 +44,18 @@ class TrialSpec:
 
     @property
     def trial_id(self) -> str:
-        return f"{self.mount}/{self.hand}/{self.grasp}/{self.condition}"
+        base = f"{self.mount}/{self.hand}/{self.grasp}/{self.condition}"
+        chosen = swept_object(self.condition, self.object)
+        return base if chosen is None else f"{base}/{chosen}"
+
+
+def swept_object(condition: str, object_name: str | None) -> str | None:
+    """The object a trial of a sweep over objects ran on; None for the catalogue's
+    trials (the grasp's default object, or its scaled variant of an "A<size>" condition,
+    which the condition names)."""
+    if object_name is None or (condition.startswith(CONDITION_A) and condition != CONDITION_A):
+        return None
+    return object_name
 
 
 def experiment_b_errors(rho: float, directions: int) -> list[tuple[str, tuple[float, float]]]:

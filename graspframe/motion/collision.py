@@ -4,8 +4,10 @@ and the object, with Pinocchio's geometry tools and coal primitives.
 A `RobotCollisionChecker` reads a URDF's collision shapes once (Pinocchio, mimic=False:
 <mimic> followers are ordinary joints, the caller gives their values, e.g. with
 `HandDescription.with_model_followers`), adds each world obstacle (`Obstacle`: a box,
-cylinder or sphere, fixed in the world) as a shape of the universe, and registers one
-collision pair per (robot shape, obstacle). Robot-robot pairs are never checked.
+cylinder or sphere, or a mesh object's convex pieces, fixed in the world) as shapes of
+the universe, and registers one collision pair per (robot shape, obstacle shape).
+Robot-robot pairs are never checked. A mesh object is checked as the same convex pieces
+the simulator builds it from (graspframe/convex.py), one coal Convex each.
 
 Obstacles are expressed in the URDF root frame (`T_root_obstacle = T_world_root^-1
 T_world_obstacle`), so moving the robot root and the obstacles by one rigid transform
@@ -40,13 +42,14 @@ from dataclasses import dataclass
 from types import MappingProxyType
 
 import numpy as np
+import trimesh
 from numpy.typing import ArrayLike, NDArray
 
 from graspframe.defaults import TABLE_HALF_SIZE
 from graspframe.errors import GraspframeError, UnknownNameError
-from graspframe.hal.objects import SHAPES, ObjectDescription
-from graspframe.robot_model import collision_geometry, load_pinocchio_model
-from graspframe.shapes import coal_geometry
+from graspframe.hal.objects import MESH, SHAPES, ObjectDescription
+from graspframe.robot_model import collision_geometry_model, load_pinocchio_model
+from graspframe.shapes import coal_convex, coal_geometry
 from graspframe.transforms import as_pose, inv_T, make_T
 from graspframe.urdf_model import UrdfModel
 
@@ -57,27 +60,45 @@ OBJECT = "object"
 
 @dataclass(frozen=True, eq=False)
 class Obstacle:
-    """A world-fixed primitive the robot must not touch.
+    """A world-fixed primitive, or set of convex pieces, the robot must not touch.
 
     name: unique among a checker's obstacles ("table", "object").
-    shape: "box", "cylinder" (axis along the obstacle's z) or "sphere".
+    shape: "box", "cylinder" (axis along the obstacle's z), "sphere" or "mesh".
     dimensions: [m] as `ObjectDescription.dimensions`: box size_x/size_y/size_z (full
-        sizes), cylinder radius/length, sphere radius.
+        sizes), cylinder radius/length, sphere radius; none for a mesh.
     T_world_obstacle: 4x4 pose of the shape's centroid in the world.
+    pieces: a mesh obstacle's closed convex pieces in the obstacle frame [m] (e.g. a mesh
+        object's, `ObjectDescription.mesh_geometry().pieces`); none for a primitive.
     """
 
     name: str
     shape: str
     dimensions: Mapping[str, float]
     T_world_obstacle: NDArray[np.float64]
+    pieces: tuple[trimesh.Trimesh, ...] = ()
 
     def __post_init__(self) -> None:
         if not self.name:
             raise GraspframeError("an obstacle needs a non-empty name")
+        if self.shape == MESH:
+            if self.dimensions or not self.pieces:
+                raise GraspframeError(
+                    f"obstacle {self.name!r}: a mesh obstacle has convex pieces and no "
+                    f"dimensions, got {len(self.pieces)} pieces, dimensions "
+                    f"{', '.join(self.dimensions) or 'none'}"
+                )
+            T = as_pose(self.T_world_obstacle, f"obstacle {self.name!r} pose").copy()
+            T.setflags(write=False)
+            object.__setattr__(self, "dimensions", MappingProxyType({}))
+            object.__setattr__(self, "T_world_obstacle", T)
+            object.__setattr__(self, "pieces", tuple(self.pieces))
+            return
+        if self.pieces:
+            raise GraspframeError(f"obstacle {self.name!r}: only a mesh obstacle has pieces")
         if self.shape not in SHAPES:
             raise GraspframeError(
                 f"obstacle {self.name!r}: unknown shape {self.shape!r}; "
-                f"shapes are {', '.join(SHAPES)}"
+                f"shapes are {', '.join(SHAPES)}, {MESH}"
             )
         if set(self.dimensions) != set(SHAPES[self.shape]):
             raise GraspframeError(
@@ -93,14 +114,29 @@ class Obstacle:
         object.__setattr__(self, "T_world_obstacle", T)
 
     def collision_geometry(self):
-        """The coal shape, centred on the obstacle frame (cylinder axis = its z)."""
+        """The coal shape of a primitive, centred on the obstacle frame (cylinder axis =
+        its z); a mesh obstacle has several (`collision_geometries`)."""
+        if self.shape == MESH:
+            raise GraspframeError(
+                f"obstacle {self.name!r} is {len(self.pieces)} convex pieces; "
+                "use collision_geometries()"
+            )
         return coal_geometry(self.shape, self.dimensions)
+
+    def collision_geometries(self) -> list:
+        """Every coal shape of the obstacle, each placed at the obstacle frame: a
+        primitive's one, or one coal Convex per convex piece."""
+        if self.shape == MESH:
+            return [coal_convex(piece) for piece in self.pieces]
+        return [self.collision_geometry()]
 
     def moved(self, T_new_world: ArrayLike) -> Obstacle:
         """The same obstacle after the rigid motion T_new_world (pose of the old world
         frame in a new one)."""
         T = as_pose(T_new_world, "T_new_world")
-        return Obstacle(self.name, self.shape, dict(self.dimensions), T @ self.T_world_obstacle)
+        return Obstacle(
+            self.name, self.shape, dict(self.dimensions), T @ self.T_world_obstacle, self.pieces
+        )
 
 
 def table_obstacle(
@@ -125,7 +161,11 @@ def table_obstacle(
 def object_obstacle(
     obj: ObjectDescription, T_world_object: ArrayLike, name: str = OBJECT
 ) -> Obstacle:
-    """The graspable object at T_world_object (4x4, its centroid; cylinder axis = z)."""
+    """The graspable object at T_world_object (4x4, its centroid; cylinder axis = z; a
+    mesh object as its convex pieces)."""
+    if obj.is_mesh:
+        pieces = obj.mesh_geometry().pieces
+        return Obstacle(name, MESH, {}, as_pose(T_world_object), pieces)
     return Obstacle(name, obj.shape, dict(obj.dimensions), as_pose(T_world_object))
 
 
@@ -189,7 +229,7 @@ class RobotCollisionChecker:
         self.obstacle_names = tuple(names)
 
         self.model = load_pinocchio_model(urdf, mimic=False)
-        self.geometry = collision_geometry(urdf, self.model)
+        self.geometry = collision_geometry_model(urdf, self.model)
         self.links = tuple(f.name for f in self.model.frames if f.type == pin.FrameType.BODY)
         robot_shapes = [
             (index, self.model.frames[g.parentFrame].name)
@@ -217,16 +257,17 @@ class RobotCollisionChecker:
         pair_obstacles: list[str] = []
         for obstacle in self.obstacles:
             placement = pin.SE3(T_root_world @ obstacle.T_world_obstacle)
-            geometry_object = pin.GeometryObject(
-                f"obstacle:{obstacle.name}", 0, 0, placement, obstacle.collision_geometry()
-            )
-            obstacle_index = self.geometry.addGeometryObject(geometry_object)
-            for shape_index, link in robot_shapes:
-                if link in skipped_links or (link, obstacle.name) in skipped_pairs:
-                    continue
-                self.geometry.addCollisionPair(pin.CollisionPair(shape_index, obstacle_index))
-                pair_links.append(link)
-                pair_obstacles.append(obstacle.name)
+            geometries = obstacle.collision_geometries()
+            for k, geometry in enumerate(geometries):
+                label = f"obstacle:{obstacle.name}" + (f":{k}" if len(geometries) > 1 else "")
+                geometry_object = pin.GeometryObject(label, 0, 0, placement, geometry)
+                obstacle_index = self.geometry.addGeometryObject(geometry_object)
+                for shape_index, link in robot_shapes:
+                    if link in skipped_links or (link, obstacle.name) in skipped_pairs:
+                        continue
+                    self.geometry.addCollisionPair(pin.CollisionPair(shape_index, obstacle_index))
+                    pair_links.append(link)
+                    pair_obstacles.append(obstacle.name)
         self._pair_links = pair_links
         self._pair_obstacles = pair_obstacles
         self._selection_cache: dict[tuple, tuple[int, ...]] = {}

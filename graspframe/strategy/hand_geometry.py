@@ -2,8 +2,9 @@
 
 `closing_configurations` closes a preshape kinematically on an object: every real finger
 moves from the open to the closed targets together and stops at the first sample where
-one of its links touches the object (Pinocchio places the shapes, coal tests them). This
-is the hand's shape at every moment of a grasp, without a simulator.
+one of its links touches the object (Pinocchio places the shapes, coal tests them
+against the object's primitive, or a mesh object's convex pieces). This is the hand's
+shape at every moment of a grasp, without a simulator.
 
 `lowest_hand_point` is the lowest point, along the world vertical, of every hand shape
 (palm included) over those configurations, relative to the palm origin, for a given palm
@@ -22,7 +23,7 @@ from graspframe.grasps import PALM
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.objects import ObjectDescription
 from graspframe.robot_model import CollisionModel
-from graspframe.shapes import coal_geometry, geometry_mesh
+from graspframe.shapes import geometry_mesh, object_coal_geometries
 from graspframe.transforms import inv_T
 from graspframe.urdf_model import UrdfModel
 
@@ -88,9 +89,9 @@ def closing_configurations(
     model = _collision_model(hand.urdf())
     finger_joints = _joints_of_fingers(hand, model)
     finger_of_link = hand.finger_of_link()
-    geometry = None
+    geometries: list = []
     if obj is not None and T_palm_object is not None:
-        geometry = coal_geometry(obj.shape, obj.dimensions)
+        geometries = object_coal_geometries(obj)
         model.place(hand.with_model_followers(dict(preshape.open_q)))
         T_root_object = model.T_root_frame(hand.palm_frame) @ T_palm_object
         tf_object = coal.Transform3s(T_root_object[:3, :3], T_root_object[:3, 3])
@@ -100,7 +101,7 @@ def closing_configurations(
     previous: dict[str, float] | None = None
     for s in np.linspace(0.0, 1.0, samples):
         q = hand.with_model_followers(_interpolate(preshape, float(s), frozen))
-        if geometry is not None and s > 0.0:
+        if geometries and s > 0.0:
             model.place(q)
             touching = set()
             for link, shape, T_root_shape in model.shapes():
@@ -108,9 +109,11 @@ def closing_configurations(
                 if finger is None or finger == PALM or finger in stopped:
                     continue
                 tf = coal.Transform3s(T_root_shape[:3, :3], T_root_shape[:3, 3])
-                request, result = coal.CollisionRequest(), coal.CollisionResult()
-                if coal.collide(shape, tf, geometry, tf_object, request, result):
-                    touching.add(finger)
+                for geometry in geometries:
+                    request, result = coal.CollisionRequest(), coal.CollisionResult()
+                    if coal.collide(shape, tf, geometry, tf_object, request, result):
+                        touching.add(finger)
+                        break
             for finger in touching:
                 stopped.add(finger)
                 for name in finger_joints.get(finger, []):

@@ -240,6 +240,8 @@ def _cache_key(grasp: HumanGrasp, obj: ObjectDescription, human: HandDescription
     digest.update(repr(sorted(human.preshape_for(grasp).closed_q.items())).encode())
     digest.update(repr(sorted(human.preshape_for(grasp).open_q.items())).encode())
     digest.update(repr((obj.shape, sorted(obj.dimensions.items()), obj.mass)).encode())
+    if obj.is_mesh:  # its files' content and the geometry made of them, not their names
+        digest.update(obj.mesh_geometry().fingerprint.encode())
     digest.update(repr((obj.static_friction, obj.dynamic_friction, human.drive)).encode())
     # The stored held verdict depends on how the grasp is made and judged.
     procedure = (APPROACH_DISTANCE, APPROACH_SPEED, SETTLE_TIME, held_test.criteria())

@@ -208,7 +208,8 @@ def object_in_palm(
 ) -> NDArray[np.float64]:
     """[m] where the object's centroid sits in the palm frame (see the module docstring)."""
     centre = np.array(preshape.grasp_center_palm, dtype=float)
-    extent = obj.extent_along(R_object_palm[:, 2])
+    # The object's face towards the palm: its extent back along the palm normal.
+    extent = obj.extent_along(-R_object_palm[:, 2])
     if volar:
         centre[2] = max(extent, preshape.volar_centre_height or 0.0)
         return centre
@@ -252,7 +253,7 @@ def plan_grasp(
     R_object_symmetry = _Rz(math.radians(variant.yaw_deg))
     R_object_palm = R_object_symmetry @ T_object_human_palm[:3, :3] @ _Rz(preshape.roll)
     p_palm_object = object_in_palm(preshape, obj, R_object_palm, volar, params.palm_clearance)
-    volar_gap = p_palm_object[2] - obj.extent_along(R_object_palm[:, 2]) if volar else 0.0
+    volar_gap = p_palm_object[2] - obj.extent_along(-R_object_palm[:, 2]) if volar else 0.0
     if variant.raise_along_axis:
         # The hand higher up the object = the object lower in the palm frame.
         p_palm_object = p_palm_object - variant.raise_along_axis * (R_object_palm.T @ [0, 0, 1])

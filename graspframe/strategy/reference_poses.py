@@ -10,7 +10,12 @@ object's extent (a bigger can sits further from the palm).
 Orientation (objects stand upright, z up; palm z out of the palm, x to the fingertips):
 - a cylinder lying across the palm (Large/Small Diameter, Abducted Thumb): its axis is
   the object's z, the palm faces the object's +x (the palm normal is horizontal), the
-  fingertips point up rather than down (towards the table);
+  fingertips point up rather than down (towards the table). An object wider one way
+  than the other (a bottle, a box) is held across its narrowest side, as a person
+  holds a mustard bottle by its label: the palm turns about the object's z to face it
+  along the horizontal direction of its smallest width (the nearest such direction to
+  +x; an object symmetric about its z, or one within SIDE_WIDTH_TOLERANCE as narrow
+  along x, keeps the palm facing +x, so a cylinder or a square box is held as before);
 - a cylinder along the palm normal (a disc) or a ball/block: the palm faces down, palm x
   along the object's x.
 """
@@ -31,6 +36,10 @@ from graspframe.transforms import make_T
 R_OBJECT_PALM_TOP = np.column_stack([[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]])
 # An axis this close to the palm normal counts as "along" it (a disc held from above).
 AXIS_ALONG_NORMAL_COS = 0.7
+# A side grasp turns to the object's narrowest side only when it is this much narrower
+# than the object along x [m].
+SIDE_WIDTH_TOLERANCE = 0.001
+SIDE_YAWS_DEG = tuple(range(-85, 95, 5))  # palm normal directions tried, about the object z
 
 
 class ReferencePlacement(NamedTuple):
@@ -82,7 +91,34 @@ def reference_placement(obj: ObjectDescription, posture: HandPreshape) -> Refere
             "the object the posture is shaped for"
         )
     R = R_object_palm_for_design(design)
+    if abs(R[2, 2]) < 1e-9:  # the palm normal is horizontal: a side grasp
+        yaw = _narrowest_side_yaw(obj)
+        if yaw:
+            R = _Rz(yaw) @ R
     normal_in_object = R[:, 2]
     p_palm_grasp = np.array(design.centre, dtype=float)
-    p_palm_grasp[2] += obj.extent_along(normal_in_object) - _design_extent_along_normal(design)
+    # The object's face towards the palm: its extent back along the palm normal.
+    p_palm_grasp[2] += obj.extent_along(-normal_in_object) - _design_extent_along_normal(design)
     return ReferencePlacement(make_T(R, -R @ p_palm_grasp), p_palm_grasp)
+
+
+def _width(obj: ObjectDescription, yaw: float) -> float:
+    """[m] the object's width along the horizontal direction at `yaw` from its x axis."""
+    u = np.array([np.cos(yaw), np.sin(yaw), 0.0])
+    return obj.extent_along(u) + obj.extent_along(-u)
+
+
+def _narrowest_side_yaw(obj: ObjectDescription) -> float:
+    """[rad] the turn about the object's z that points a horizontal palm normal (object
+    +x) across the object's narrowest side (see the module docstring): 0 unless some
+    direction is narrower than x by more than SIDE_WIDTH_TOLERANCE."""
+    if obj.symmetric_about_z:
+        return 0.0
+    widths = {np.radians(deg): _width(obj, np.radians(deg)) for deg in SIDE_YAWS_DEG}
+    yaw = min(widths, key=lambda a: (widths[a], abs(a)))
+    return yaw if widths[yaw] < _width(obj, 0.0) - SIDE_WIDTH_TOLERANCE else 0.0
+
+
+def _Rz(angle: float) -> NDArray[np.float64]:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])

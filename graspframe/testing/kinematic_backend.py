@@ -132,7 +132,7 @@ class KinematicHandDriver(HandDriver):
         """The joint's value [rad] nearest q_try on the way from q[name] that does not
         move its links deeper into the object."""
         shapes, q_start = self._moved_by[name], q[name]
-        if q_try == q_start or not shapes or self._geometry.object_shape is None:
+        if q_try == q_start or not shapes or not self._geometry.object_shapes:
             return float(q_try)
         self.place(q)
         before = self._geometry.min_distance(shapes)

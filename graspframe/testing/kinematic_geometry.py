@@ -1,5 +1,6 @@
 """Geometry of the kinematic test world: a robot's collision shapes placed by forward
-kinematics, and their signed distances to the object (coal, on the URDF primitives)."""
+kinematics, and their signed distances to the object (coal, on the URDF primitives and
+the object's primitive or convex pieces)."""
 
 from __future__ import annotations
 
@@ -56,9 +57,9 @@ class KinematicGeometry:
             i for i, link in enumerate(self.model.link_of_shape) if link in finger_of_link
         )
         self.T_world_root = np.eye(4)
-        self.object_shape = None
+        self.object_shapes: list = []
         if obj is not None:
-            self.object_shape = object_obstacle(obj, np.eye(4)).collision_geometry()
+            self.object_shapes = object_obstacle(obj, np.eye(4)).collision_geometries()
         self.T_world_object = as_pose(T_world_object, "T_world_object")
         self._request = coal.DistanceRequest()
         self._request.enable_signed_distance = True
@@ -84,8 +85,9 @@ class KinematicGeometry:
         return tuple(i for i in self.hand_shapes if geometry[i].parentJoint in moved)
 
     def distances(self, shapes: Sequence[int] | None = None) -> list[ShapeDistance]:
-        """Signed distances of the placed hand shapes (default: all) to the object."""
-        if self.object_shape is None:
+        """Signed distances of the placed hand shapes (default: all) to the object (the
+        nearest of its shapes)."""
+        if not self.object_shapes:
             return []
         coal = self._coal
         R_object, p_object = self.T_world_object[:3, :3], self.T_world_object[:3, 3]
@@ -93,15 +95,17 @@ class KinematicGeometry:
         found = []
         for index in self.hand_shapes if shapes is None else shapes:
             T_world_shape = self.T_world_root @ self.model.geometry_data.oMg[index].homogeneous
-            result = coal.DistanceResult()
-            distance = coal.distance(
-                self.model.geometry.geometryObjects[index].geometry,
-                coal.Transform3s(T_world_shape[:3, :3], T_world_shape[:3, 3]),
-                self.object_shape,
-                tf_object,
-                self._request,
-                result,
-            )
+            tf_shape = coal.Transform3s(T_world_shape[:3, :3], T_world_shape[:3, 3])
+            hand_shape = self.model.geometry.geometryObjects[index].geometry
+            distance, result = np.inf, None
+            for object_shape in self.object_shapes:
+                candidate = coal.DistanceResult()
+                d = coal.distance(
+                    hand_shape, tf_shape, object_shape, tf_object, self._request, candidate
+                )
+                if d < distance:
+                    distance, result = d, candidate
+            assert result is not None
             found.append(
                 ShapeDistance(
                     link=self.model.link_of_shape[index],

@@ -15,6 +15,7 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
+from graspframe import shapes
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.objects import ObjectDescription
 from graspframe.shapes import geometry_primitive, unit_primitive, unit_scale
@@ -64,7 +65,10 @@ def primitive(kind: str, scale_xyz) -> Mesh:
 
 
 def object_mesh(obj: ObjectDescription) -> Mesh:
-    """The object's surface in its own frame (centroid, cylinders along z) [m]."""
+    """The object's surface in its own frame (centroid, cylinders along z) [m]: a
+    primitive exactly as before, a mesh object's display mesh (graspframe.shapes)."""
+    if obj.is_mesh:
+        return _unindexed(shapes.object_mesh(obj), smooth=True)
     return primitive(obj.shape, unit_scale(obj.shape, obj.dimensions))
 
 

@@ -87,13 +87,14 @@ SIZE_VARIANTS = (0.75, 1.25)
 
 def scaled(obj: ObjectDescription, scale: float) -> ObjectDescription:
     """`obj` with every dimension times `scale` and its mass times scale^3; the variant
-    is nobody's default object."""
+    is nobody's default object, but a person grasps it the same way."""
     return replace(
         obj,
         name=f"{obj.name}_{round(100 * scale):03d}",
         dimensions={k: scale * v for k, v in obj.dimensions.items()},
         mass=obj.mass * scale**3,
         default_for=frozenset(),
+        grasps=obj.documented_grasps(),
         summary=f"{obj.summary.split(':')[0]}, {round(100 * scale)}% size",
     )
 

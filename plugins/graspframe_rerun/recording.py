@@ -1,7 +1,11 @@
 """One run's rerun recording, streamed to a file from the start.
 
 Entity layout (all in the world frame, z up, metres):
-    world/table, world/object                the table top and the object (true pose)
+    world/table, world/object                the table top and the object (true pose): its
+                                             display mesh (a mesh object: the visual mesh,
+                                             coloured from its texture when it has one)
+    world/object/collision                   a mesh object's convex pieces (what the
+                                             simulator and the planner use), see-through
     world/robot/<link>                       each link's pose (forward kinematics), per cycle
     world/robot/<link>/visual/<i>            the link's visual meshes (the model's
                                              <visual> elements, decimated), opaque
@@ -31,6 +35,7 @@ from pathlib import Path
 
 import numpy as np
 import rerun as rr
+import trimesh
 
 from graspframe import events
 from graspframe.defaults import TABLE_HALF_SIZE
@@ -40,7 +45,7 @@ from graspframe.grasps import PALM
 from graspframe.pictures.meshes import Surface, robot_meshes, vertex_normals
 from graspframe.pictures.style import tinted
 from graspframe.robot_model import CollisionModel
-from graspframe.shapes import object_mesh
+from graspframe.shapes import object_collision_meshes, object_mesh, textured_object_mesh
 from graspframe.transforms import quat_xyzw_from_R
 from graspframe_rerun.cycles import MotionCycles, RobotPoser
 
@@ -65,12 +70,13 @@ def finger_colour(name: str) -> tuple[int, int, int]:
     return FALLBACK_COLOURS[sum(map(ord, name)) % len(FALLBACK_COLOURS)]
 
 
-def _mesh_archetype(mesh, colour) -> rr.Mesh3D:
+def _mesh_archetype(mesh, colour, vertex_colours=None) -> rr.Mesh3D:
     return rr.Mesh3D(
         vertex_positions=mesh.vertices,
         triangle_indices=mesh.faces,
         vertex_normals=mesh.vertex_normals,
-        albedo_factor=colour,
+        vertex_colors=vertex_colours,
+        albedo_factor=None if vertex_colours is not None else colour,
     )
 
 
@@ -87,8 +93,22 @@ def _surface_archetype(surface: Surface, colour, alpha: int = 255) -> rr.Mesh3D:
     )
 
 
-def _object_archetype(obj, colour=(200, 170, 60)):
-    return _mesh_archetype(object_mesh(obj), colour)
+OBJECT_COLOUR = (200, 170, 60)
+PIECE_COLOUR = (60, 170, 200, 90)  # translucent: the pieces inside the visual mesh
+
+
+def _object_archetype(obj):
+    """The object's display mesh (graspframe.shapes.object_mesh), with the colours of a
+    mesh object's texture at its vertices when it has one."""
+    if not obj.is_mesh:
+        return _mesh_archetype(object_mesh(obj), OBJECT_COLOUR)
+    mesh, vertex_colours = textured_object_mesh(obj)
+    return _mesh_archetype(mesh, OBJECT_COLOUR, vertex_colours)
+
+
+def _pieces_archetype(obj) -> rr.Mesh3D:
+    """A mesh object's convex pieces as one mesh (graspframe.shapes.object_collision_meshes)."""
+    return _mesh_archetype(trimesh.util.concatenate(object_collision_meshes(obj)), PIECE_COLOUR)
 
 
 def _transform(T) -> rr.Transform3D:
@@ -165,6 +185,8 @@ class RunRecording:
             static=True,
         )
         self._log("world/object", _object_archetype(self._object), static=True)
+        if self._object.is_mesh:
+            self._log("world/object/collision", _pieces_archetype(self._object), static=True)
         self._log("world/object", _transform(T_world_object))
         self._log(
             "world/object_believed",

@@ -1,0 +1,185 @@
+"""Convex pieces of a mesh file (graspframe/convex.py): the three rules, the vertex limit,
+the cache and its recovery from a damaged entry, bad input."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from graspframe import convex
+from graspframe.convex import (
+    MANIFEST,
+    MAX_PIECE_VERTICES,
+    METHOD_COACD,
+    METHOD_GIVEN,
+    METHOD_HULL,
+    convex_pieces,
+    farthest_points,
+    without_flat_vertices,
+)
+from graspframe.errors import DescriptionError
+
+
+@pytest.fixture(autouse=True)
+def cache(tmp_path, monkeypatch) -> Path:
+    """Every test with a cache of its own."""
+    folder = tmp_path / "cache"
+    monkeypatch.setenv("GRASPFRAME_CACHE_DIR", str(folder))
+    return folder
+
+
+def _write(mesh: trimesh.Trimesh, path: Path) -> Path:
+    mesh.export(path)
+    return path
+
+
+def _outside(points, piece: trimesh.Trimesh) -> float:
+    """[m] how far the points reach outside the convex piece (<= 0: all inside)."""
+    normals = piece.face_normals
+    offsets = -np.einsum("ij,ij->i", normals, piece.triangles[:, 0])
+    return float((np.asarray(points) @ normals.T + offsets).max())
+
+
+def _entry(cache: Path) -> Path:
+    (entry,) = (cache / "decompositions").iterdir()
+    return entry
+
+
+def test_a_convex_mesh_is_its_hull_with_at_most_the_vertex_limit(tmp_path):
+    sphere = trimesh.creation.icosphere(subdivisions=3, radius=0.05)  # 642 vertices
+    result = convex_pieces(_write(sphere, tmp_path / "ball.stl"))
+    assert result.method == METHOD_HULL
+    (piece,) = result.pieces
+    assert piece.is_watertight and piece.is_convex
+    assert 4 <= len(piece.vertices) <= MAX_PIECE_VERTICES
+    # An inner approximation: its vertices are vertices of the sphere (to the 8 digits
+    # of the cached OBJ file); 64 of them hold 90 % of its volume (the best spread of 64
+    # points on a sphere holds about 92 %).
+    assert _outside(piece.vertices, sphere) < 1e-7
+    assert 0.88 < piece.volume / sphere.volume <= 1.0
+    assert [p.name for p in result.files] == ["piece_000.obj"]
+
+
+def test_a_box_is_kept_exactly(tmp_path):
+    box = trimesh.creation.box(extents=(0.04, 0.06, 0.1))
+    (piece,) = convex_pieces(_write(box, tmp_path / "box.obj")).pieces
+    assert len(piece.vertices) == 8
+    assert piece.volume == pytest.approx(0.04 * 0.06 * 0.1, rel=1e-9)
+
+
+def test_scale_takes_the_file_to_metres(tmp_path):
+    box_mm = trimesh.creation.box(extents=(40.0, 60.0, 100.0))
+    (piece,) = convex_pieces(_write(box_mm, tmp_path / "box_mm.stl"), scale=(1e-3,) * 3).pieces
+    assert piece.extents == pytest.approx((0.04, 0.06, 0.1))
+
+
+def test_given_pieces_are_split_hulled_and_slivers_dropped(tmp_path):
+    a = trimesh.creation.box(extents=(0.04, 0.04, 0.04))
+    b = trimesh.creation.box(extents=(0.02, 0.02, 0.08))
+    b.apply_translation((0.02, 0.0, 0.0))  # overlaps a
+    speck = trimesh.creation.box(extents=(0.001, 0.001, 0.001))  # 1e-9 m^3: a sliver
+    speck.apply_translation((0.1, 0.0, 0.0))
+    flat = trimesh.Trimesh([[0.2, 0, 0], [0.21, 0, 0], [0.2, 0.01, 0]], [[0, 1, 2]])  # no volume
+    merged = trimesh.util.concatenate([a, b, speck, flat])
+    pieces_file = _write(merged, tmp_path / "pieces.stl")
+    visual = _write(trimesh.util.concatenate([a, b]), tmp_path / "visual.obj")
+    result = convex_pieces(visual, given_pieces=pieces_file)
+    assert result.method == METHOD_GIVEN
+    assert sorted(round(p.volume * 1e9) for p in result.pieces) == [32000, 64000]  # [mm^3]
+    assert all(p.is_convex for p in result.pieces)
+
+
+def test_a_non_convex_mesh_is_decomposed_with_coacd_and_cached(tmp_path, cache):
+    ring = trimesh.creation.annulus(r_min=0.02, r_max=0.04, height=0.03, sections=16)
+    assert ring.is_watertight and ring.convex_hull.volume > 1.3 * ring.volume
+    path = _write(ring, tmp_path / "ring.obj")
+    started = time.perf_counter()
+    first = convex_pieces(path)
+    computed = time.perf_counter() - started
+    assert first.method == METHOD_COACD
+    assert len(first.pieces) >= 3
+    for piece in first.pieces:
+        assert piece.is_convex and len(piece.vertices) <= MAX_PIECE_VERTICES
+    # The pieces follow the ring: its surface is within 2 mm of them, the hole is empty.
+    surface = ring.sample(2000, seed=0)
+    gap = [min(_outside([p], piece) for piece in first.pieces) for p in surface]
+    assert max(gap) < 0.002
+    assert min(_outside([[0.0, 0.0, 0.0]], piece) for piece in first.pieces) > 0.01
+
+    started = time.perf_counter()
+    again = convex_pieces(path)
+    assert time.perf_counter() - started < computed / 5  # read back, not computed
+    assert again.method == METHOD_COACD
+    assert [f.name for f in again.files] == [f.name for f in first.files]
+    for a, b in zip(first.pieces, again.pieces, strict=True):
+        np.testing.assert_array_equal(a.vertices, b.vertices)
+    assert all(f.parent == _entry(cache) for f in again.files)
+
+
+@pytest.mark.parametrize("damage", ["no manifest", "a piece file changed", "a piece missing"])
+def test_a_damaged_cache_entry_is_rebuilt(tmp_path, cache, damage):
+    box = _write(trimesh.creation.box(extents=(0.03, 0.03, 0.03)), tmp_path / "box.stl")
+    original = convex_pieces(box)
+    entry = _entry(cache)
+    if damage == "no manifest":  # a process killed before it wrote the manifest
+        (entry / MANIFEST).unlink()
+    elif damage == "a piece file changed":
+        (entry / "piece_000.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n")
+    else:
+        (entry / "piece_000.obj").unlink()
+    rebuilt = convex_pieces(box)
+    np.testing.assert_array_equal(rebuilt.pieces[0].vertices, original.pieces[0].vertices)
+    manifest = json.loads((entry / MANIFEST).read_text())
+    assert manifest["files"] == ["piece_000.obj"] and manifest["method"] == METHOD_HULL
+
+
+def test_a_different_file_or_scale_is_a_different_entry(tmp_path, cache):
+    box = _write(trimesh.creation.box(extents=(0.03, 0.03, 0.03)), tmp_path / "box.stl")
+    convex_pieces(box)
+    convex_pieces(box, scale=(2.0, 2.0, 2.0))
+    _write(trimesh.creation.box(extents=(0.03, 0.03, 0.04)), box)
+    convex_pieces(box)
+    assert len(list((cache / "decompositions").iterdir())) == 3
+
+
+def test_bad_files_are_refused_in_one_line(tmp_path):
+    image = tmp_path / "texture.jpg"
+    image.write_bytes(b"\xff\xd8")
+    with pytest.raises(DescriptionError, match=r"unknown format '\.jpg'; mesh files are \.obj"):
+        convex_pieces(image)
+    with pytest.raises(DescriptionError, match="does not exist"):
+        convex_pieces(tmp_path / "missing.obj")
+    box = _write(trimesh.creation.box(), tmp_path / "box.stl")
+    with pytest.raises(DescriptionError, match="scale must be three finite numbers > 0"):
+        convex_pieces(box, scale=(1.0, 0.0, 1.0))
+    empty = tmp_path / "empty.obj"
+    empty.write_text("# nothing\n")
+    with pytest.raises(DescriptionError, match=r"empty\.obj") as raised:
+        convex_pieces(empty)
+    assert "\n" not in str(raised.value)
+
+
+def test_farthest_points_keep_the_extremes_and_spread_out():
+    rng = np.random.default_rng(0)
+    points = rng.normal(size=(500, 3))
+    chosen = farthest_points(points, 20)
+    assert len(np.unique(chosen, axis=0)) == 20
+    for axis in range(3):
+        assert points[:, axis].max() in chosen[:, axis]
+        assert points[:, axis].min() in chosen[:, axis]
+
+
+def test_nearly_coplanar_vertices_are_dropped():
+    cube = trimesh.creation.box(extents=(0.04, 0.04, 0.04)).vertices
+    low_bump = np.vstack([cube, [0.0, 0.0, 0.02 + 0.0005]])  # 0.5 mm above the top face
+    high_bump = np.vstack([cube, [0.0, 0.0, 0.02 + 0.002]])  # 2 mm above it
+    assert len(without_flat_vertices(low_bump, convex.PLANE_TOLERANCE)) == 8
+    assert len(without_flat_vertices(high_bump, convex.PLANE_TOLERANCE)) == 9
+    # Every vertex that stays is farther than the tolerance from the hull of the others.
+    hull = convex.convex_hull(np.vstack([cube, [[0.0, 0.0, 0.0205], [0.01, 0.0, 0.0203]]]))
+    assert hull is not None and len(hull.vertices) == 8
