@@ -53,7 +53,7 @@ import trimesh
 from numpy.typing import NDArray
 
 from graspframe.errors import DescriptionError
-from graspframe.files import atomic_write, cache_dir
+from graspframe.files import atomic_write, cache_dir, mesh_file
 
 log = logging.getLogger(__name__)
 
@@ -97,15 +97,7 @@ class ConvexPieces:
 def check_mesh_file(path: Path | str) -> Path:
     """`path` when it names an existing file of a known mesh format; DescriptionError
     otherwise (the file is not read)."""
-    path = Path(path)
-    if path.suffix.lower() not in MESH_SUFFIXES:
-        raise DescriptionError(
-            f"mesh file {path}: unknown format {path.suffix or '(no suffix)'!r}; "
-            f"mesh files are {', '.join(MESH_SUFFIXES)}"
-        )
-    if not path.is_file():
-        raise DescriptionError(f"mesh file {path} does not exist; give the path of a mesh file")
-    return path
+    return mesh_file(path, MESH_SUFFIXES, "mesh file")
 
 
 def load_mesh(path: Path | str, scale: Sequence[float] = (1.0, 1.0, 1.0)) -> trimesh.Trimesh:

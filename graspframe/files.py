@@ -18,6 +18,23 @@ from typing import BinaryIO
 CACHE_ENV = "GRASPFRAME_CACHE_DIR"
 
 
+def mesh_file(path: Path | str, suffixes: tuple[str, ...], what: str) -> Path:
+    """`path` when it names an existing file with one of the `suffixes` (the file is not
+    read); a DescriptionError naming `what` (e.g. "mesh file", "object 'mug': mesh_path")
+    otherwise."""
+    from graspframe.errors import DescriptionError
+
+    path = Path(path)
+    if path.suffix.lower() not in suffixes:
+        raise DescriptionError(
+            f"{what} {path}: unknown format {path.suffix or '(no suffix)'!r}; mesh files "
+            f"are {', '.join(suffixes)}"
+        )
+    if not path.is_file():
+        raise DescriptionError(f"{what} {path} does not exist; give the path of a mesh file")
+    return path
+
+
 def cache_dir(kind: str) -> Path:
     """The cache folder of one kind of file graspframe computes once and reuses
     ("decompositions", "human_references"), created on demand, under GRASPFRAME_CACHE_DIR

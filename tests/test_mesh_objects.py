@@ -133,7 +133,7 @@ def test_overlapping_pieces_are_counted_once():
 @pytest.mark.parametrize(
     ("fields", "message"),
     [
-        ({"mesh_path": "missing.obj", "mass": 0.1}, r"mesh_path .*missing\.obj is not a file"),
+        ({"mesh_path": "missing.obj", "mass": 0.1}, r"mesh_path .*missing\.obj does not exist"),
         (
             {"mesh_path": "texture.jpg", "mass": 0.1},
             r"unknown format '\.jpg'; mesh files are \.obj, \.stl, \.glb, \.ply",

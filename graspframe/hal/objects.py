@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from graspframe.errors import DescriptionError
+from graspframe.files import mesh_file
 from graspframe.grasps import HumanGrasp
 
 if TYPE_CHECKING:
@@ -105,14 +106,7 @@ class ObjectDescription:
             value = getattr(self, label)
             if value is None:
                 continue
-            path = Path(value)
-            if path.suffix.lower() not in MESH_SUFFIXES:
-                raise DescriptionError(
-                    f"{what}: {label} {path} has an unknown format "
-                    f"{path.suffix or '(no suffix)'!r}; mesh files are {', '.join(MESH_SUFFIXES)}"
-                )
-            if not path.is_file():
-                raise DescriptionError(f"{what}: {label} {path} is not a file")
+            path = mesh_file(value, MESH_SUFFIXES, f"{what}: {label}")
             object.__setattr__(self, label, path)
         if self.dimensions:
             raise DescriptionError(
