@@ -20,7 +20,8 @@ from numpy.typing import NDArray
 from graspframe.errors import DescriptionError
 from graspframe.hal.descriptions import AdapterShape, ArmDescription, HandDescription, Mounting
 from graspframe.transforms import as_pose, make_T
-from graspframe.urdf_model import UrdfModel, combine, set_origin
+from graspframe.urdf_elements import set_origin
+from graspframe.urdf_model import UrdfModel, combine
 
 
 @dataclass(frozen=True)

@@ -14,8 +14,8 @@ LAYERS = {
     "core": (
         "__init__", "errors", "transforms", "grasps", "contacts", "hal", "mounting",
         "robot_model", "files", "defaults", "shapes", "events", "plugins", "registry",
-        "results", "scene", "floating_base", "demo", "convex", "mesh_geometry", "urdf_model",
-        "specs",
+        "results", "scene", "floating_base", "demo", "convex", "mesh_geometry", "urdf_elements",
+        "urdf_model", "specs",
     ),
     "algorithms": (
         "motion", "metrics", "strategy", "vision", "testing", "checks", "pictures", "snapshots",

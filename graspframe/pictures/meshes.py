@@ -31,7 +31,8 @@ from numpy.typing import NDArray
 from graspframe.errors import DescriptionError
 from graspframe.shapes import geometry_mesh, primitive_mesh
 from graspframe.transforms import inv_T, transform_points
-from graspframe.urdf_model import UrdfModel, Visual
+from graspframe.urdf_elements import Visual
+from graspframe.urdf_model import UrdfModel
 
 MAX_TRIANGLES = 3000  # per mesh file, after decimation
 MIN_PART_TRIANGLES = 64  # a small part of a file keeps at least this many
