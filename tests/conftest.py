@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
@@ -23,13 +24,17 @@ def fake_hand(fake_hand_urdf: Path) -> HandDescription:
     return make_fake_hand(fake_hand_urdf)
 
 
-# Real vendor models and scans, read where they lie (never copied into the project): the
-# folder beside the repository, as CI has it, or /work/shared.
-def _third_party() -> Path | None:
-    for shared in (Path(__file__).resolve().parents[2] / "shared", Path("/work/shared")):
-        if (shared / "third_party").is_dir():
-            return shared / "third_party"
-    return None
+# Real vendor models and scans, read where they lie (never copied into the project):
+# GRASPFRAME_TEST_THIRD_PARTY, else the shared folder beside the repository (as CI has
+# it), else /work/shared. The tests that need them skip when none is there.
+def _third_party() -> Path:
+    candidates = [
+        Path(__file__).resolve().parents[2] / "shared" / "third_party",
+        Path("/work/shared/third_party"),
+    ]
+    if os.environ.get("GRASPFRAME_TEST_THIRD_PARTY"):
+        candidates.insert(0, Path(os.environ["GRASPFRAME_TEST_THIRD_PARTY"]))
+    return next((c for c in candidates if c.is_dir()), candidates[0])
 
 
 THIRD_PARTY = _third_party()
@@ -38,7 +43,7 @@ PANDA_SPEC = Path(__file__).resolve().parents[1] / "docs/examples/arms/panda.tom
 
 
 def _vendor_dir(*parts: str) -> Path:
-    if THIRD_PARTY is None or not (THIRD_PARTY.joinpath(*parts)).is_dir():
+    if not THIRD_PARTY.joinpath(*parts).is_dir():
         pytest.skip("the third-party vendor models are not on this machine")
     return THIRD_PARTY.joinpath(*parts)
 

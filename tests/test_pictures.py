@@ -10,7 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import trimesh
-from test_snapshots import THIRD_PARTY, hue_mask, read_rgb, red_pixels
+from conftest import THIRD_PARTY
+from test_snapshots import hue_mask, read_rgb, red_pixels
 
 from graspframe.errors import InputError
 from graspframe.pictures import style

@@ -9,6 +9,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
+from conftest import THIRD_PARTY
 from graspframe_rerun.recording import RunRecording
 from rerun.chunk import RrdReader
 from scipy.spatial.transform import Rotation
@@ -22,7 +23,6 @@ from graspframe.robot_model import CollisionModel
 from graspframe.transforms import make_T
 from graspframe.urdf_model import read_model
 
-THIRD_PARTY = Path(__file__).resolve().parents[2] / "shared" / "third_party"
 LEAP_URDF = THIRD_PARTY / "hands" / "leap_hand" / "leap_hand_right.urdf"
 EXPECTED_ENTITIES = (
     "/world/table",

@@ -15,6 +15,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
+from conftest import THIRD_PARTY
 from graspframe_barrett.description import BARRETT, hand_q
 
 from graspframe import snapshots as snap
@@ -35,7 +36,6 @@ RADIUS, LENGTH = 0.03, 0.10  # [m] the cylinder
 CAN = ObjectDescription("can", "cylinder", {"radius": RADIUS, "length": LENGTH}, 0.2)
 # Palm facing down (palm z = -world z), fingertips along world +x.
 R_WORLD_PALM_DOWN = np.array([[1.0, 0, 0], [0, -1.0, 0], [0, 0, -1.0]])
-THIRD_PARTY = Path(__file__).resolve().parents[2] / "shared" / "third_party"
 LEAP_URDF = THIRD_PARTY / "hands" / "leap_hand" / "leap_hand_right.urdf"
 CONTACT_RED = np.array([255, 0, 0])
 

@@ -2,8 +2,9 @@
 loads with its published mass, a centroid inside its mesh and the rest pose a person
 finds it in; PhysX cooks its pieces as the planner sees them; each is held.
 
-The scans are looked for in GRASPFRAME_TEST_YCB_DIR, else ../shared/third_party/objects/ycb
-beside the repository (where CI keeps them); without them these tests are skipped."""
+The scans are looked for in GRASPFRAME_TEST_YCB_DIR, else under objects/ycb of the
+third-party folder conftest.py finds (beside the repository, where CI keeps it); without
+them these tests are skipped."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import sapien
+from conftest import THIRD_PARTY
 from graspframe_sapien.scene_objects import MAX_COOKING_CHANGE, cooking_change
 from graspframe_sapien.world import SapienBackend
 from graspframe_ycb.plugin import YCB_DIR_ENV, YCB_OBJECTS, ycb_objects
@@ -27,12 +29,7 @@ from graspframe.strategy.executor import ExecutorParams, execute_plan
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 
-REPO = Path(__file__).resolve().parents[1]
-YCB_DIR = Path(
-    os.environ.get(
-        "GRASPFRAME_TEST_YCB_DIR", REPO.parent / "shared" / "third_party" / "objects" / "ycb"
-    )
-)
+YCB_DIR = Path(os.environ.get("GRASPFRAME_TEST_YCB_DIR", THIRD_PARTY / "objects" / "ycb"))
 pytestmark = pytest.mark.skipif(
     not (YCB_DIR / "005_tomato_soup_can" / "google_16k" / "textured.obj").is_file(),
     reason=f"the YCB scans are not at {YCB_DIR} (set GRASPFRAME_TEST_YCB_DIR)",
