@@ -23,6 +23,8 @@ from graspframe.defaults import (
     DEFAULT_BACKEND,
     DEFAULT_CLASSIFIER,
     DEFAULT_HAND,
+    DISTURBANCE_FRACTION,
+    LIFT_HEIGHT,
     MOUNT_ARM,
     MOUNTS,
 )
@@ -168,6 +170,14 @@ def run(
         str,
         typer.Option(help="arm (the hand on --arm) or floating (the hand alone, free base)."),
     ] = MOUNT_ARM,
+    lift_height_mm: Annotated[
+        float,
+        typer.Option(help="Lift of the held test \\[mm], for the robot and the human alike."),
+    ] = 1000 * LIFT_HEIGHT,
+    disturbance_fraction: Annotated[
+        float,
+        typer.Option(help="Push of the held test, a fraction of the object's weight."),
+    ] = DISTURBANCE_FRACTION,
 ) -> None:
     """Image of a human grasp -> robot grasp on the arm in simulation, scored.
 
@@ -192,6 +202,8 @@ def run(
         human_contacts=str(human_contacts) if human_contacts else None,
         record=record,
         mount=mount,
+        lift_height=lift_height_mm / 1000.0,
+        disturbance_fraction=disturbance_fraction,
     )
     result = run_grasp(request, progress=lambda stage: err_console.print(f"[dim]· {stage}[/dim]"))
     _print_run_summary(result)
@@ -202,7 +214,6 @@ def _tested(value: bool | None) -> str:
 
 
 def _print_run_summary(result: dict) -> None:
-    from graspframe.strategy.held_test import LIFT_HEIGHT
 
     plan, outcome, score = result["plan"], result["outcome"], result.get("score", {})
     classification = result.get("classification")
@@ -217,7 +228,7 @@ def _print_run_summary(result: dict) -> None:
     )
     console.print(
         f"corrections: {outcome['corrections']}   palm contact: {outcome['palm_contact']}   "
-        f"held after a {100 * LIFT_HEIGHT:.0f} cm lift: {outcome['held_after_lift']} "
+        f"held after a {100 * outcome['lift_height']:.0f} cm lift: {outcome['held_after_lift']} "
         f"(object rose {1000 * outcome['object_rise']:.0f} mm)   "
         f"held under disturbance: {_tested(outcome['held_under_disturbance'])}"
     )

@@ -18,3 +18,7 @@ SCENE_FORMAT = "graspframe.scene/1"  # the "format" value of a scene file
 SCENE_OBJECT_XY = (0.55, 0.20)  # [m] where the object stands in the world
 TABLE_HEIGHT = 0.0  # [m] world z of the table top
 TABLE_HALF_SIZE = (0.30, 0.40, 0.02)  # [m] a 60 x 80 cm table top, 4 cm thick
+# The held test (graspframe/strategy/held_test.py, docs/method.md#held): the lift and the
+# push every grasp, the robot's and the human reference's, is judged by.
+LIFT_HEIGHT = 0.05  # [m]
+DISTURBANCE_FRACTION = 0.5  # of the object's weight

@@ -22,6 +22,8 @@ from graspframe.defaults import (
     DEFAULT_ARM,
     DEFAULT_BACKEND,
     DEFAULT_CLASSIFIER,
+    DISTURBANCE_FRACTION,
+    LIFT_HEIGHT,
     MOUNT_ARM,
     MOUNT_FLOATING,
     MOUNTS,
@@ -32,7 +34,6 @@ from graspframe.errors import GraspframeError, InputError
 from graspframe.events import (
     CLASSIFY_DONE,
     CLASSIFY_IMAGES,
-    EXECUTE_SNAPSHOT,
     MOTION_CYCLE,
     PLAN_DONE,
     SCORE_DONE,
@@ -43,7 +44,7 @@ from graspframe.events import (
 )
 from graspframe.grasps import HUMAN_HAND, PALM, HumanGrasp
 from graspframe.hal.descriptions import ArmDescription, HandDescription
-from graspframe.hal.drivers import Backend, WorldConfig
+from graspframe.hal.drivers import Backend, World, WorldConfig
 from graspframe.hal.objects import ObjectDescription
 from graspframe.metrics.quality import grasp_quality
 from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_contacts
@@ -53,8 +54,9 @@ from graspframe.results import new_run_dir, versions, write_json
 from graspframe.scene import Scene, check_on_table, load_scene
 from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
 from graspframe.strategy.arm_path import CheckedPlan, choose_plan, floating_plan
-from graspframe.strategy.executor import ExecutorParams, GraspOutcome, execute_plan
-from graspframe.strategy.held_test import object_probe
+from graspframe.strategy.execution import Execution, GraspOutcome, execute
+from graspframe.strategy.executor import ExecutorParams, MethodStrategy
+from graspframe.strategy.held_test import HeldTest, object_probe
 from graspframe.strategy.human_reference import (
     HumanReference,
     human_reference,
@@ -66,6 +68,8 @@ from graspframe.transforms import make_T
 log = logging.getLogger(__name__)
 
 MAX_OBJECT_ERROR = 0.5  # [m] larger injected errors are surely a unit mistake
+MAX_LIFT_HEIGHT = 0.3  # [m] a higher lift leaves the arm's comfortable workspace
+MAX_DISTURBANCE_FRACTION = 5.0  # of the object's weight
 
 
 @dataclass(frozen=True)
@@ -95,6 +99,8 @@ class RunRequest:
     human_contacts: str | None = None
     record: bool = True
     mount: str = MOUNT_ARM
+    lift_height: float = LIFT_HEIGHT
+    disturbance_fraction: float = DISTURBANCE_FRACTION
 
     def command(self) -> str:
         """The command line that repeats this run."""
@@ -113,7 +119,27 @@ class RunRequest:
             parts += ["--human-contacts", self.human_contacts]
         if not self.record:
             parts += ["--no-record"]
+        if self.lift_height != LIFT_HEIGHT:
+            parts += ["--lift-height-mm", f"{1000.0 * self.lift_height:g}"]
+        if self.disturbance_fraction != DISTURBANCE_FRACTION:
+            parts += ["--disturbance-fraction", f"{self.disturbance_fraction:g}"]
         return " ".join(parts)
+
+    def held_test(self) -> HeldTest:
+        """The held test of this run, for the robot and the human reference alike."""
+        if not (0.0 < self.lift_height <= MAX_LIFT_HEIGHT):
+            raise InputError(
+                f"lift height {1000 * self.lift_height:g} mm is outside (0, "
+                f"{1000 * MAX_LIFT_HEIGHT:g}] mm"
+            )
+        if not (0.0 <= self.disturbance_fraction <= MAX_DISTURBANCE_FRACTION):
+            raise InputError(
+                f"disturbance fraction {self.disturbance_fraction:g} is outside [0, "
+                f"{MAX_DISTURBANCE_FRACTION:g}] (a fraction of the object's weight)"
+            )
+        return HeldTest(
+            lift_height=self.lift_height, disturbance_fraction=self.disturbance_fraction
+        )
 
 
 Progress = Callable[[str], None]
@@ -152,6 +178,8 @@ class _Inputs:
     hand: HandDescription
     arm: ArmDescription
     backend_cls: type[Backend]
+    reference_backend_cls: type[Backend]
+    held_test: HeldTest
     obj: ObjectDescription
     human: HandDescription
     reference_file: HumanReference | None
@@ -192,7 +220,19 @@ def resolve(request: RunRequest, registry: Registry) -> _Inputs:
         )
     reference_file = load_reference_file(request.human_contacts) if request.human_contacts else None
     human = registry.get_hand(HUMAN_HAND)
-    return _Inputs(hand, arm, backend_cls, obj, human, reference_file, scene, image)
+    reference_backend_cls = registry.get_backend(DEFAULT_BACKEND)
+    return _Inputs(
+        hand,
+        arm,
+        backend_cls,
+        reference_backend_cls,
+        request.held_test(),
+        obj,
+        human,
+        reference_file,
+        scene,
+        image,
+    )
 
 
 def run_grasp(
@@ -335,9 +375,8 @@ def _execute(request, inputs, registry, recorder, result, progress) -> None:
         table_height=TABLE_HEIGHT,
         seed=request.seed,
     )
-    outcome, snapshots = _execute_in_world(
-        inputs, checked, config, T_world_object_est, recorder, progress
-    )
+    execution = _execute_in_world(inputs, checked, config, T_world_object_est, recorder, progress)
+    outcome, snapshots = execution.outcome, list(execution.snapshots)
     result["outcome"] = _outcome_dict(outcome)
     result["snapshots"] = _draw_snapshots(
         recorder.run.out_dir, checked, config, snapshots, outcome, grasp
@@ -354,12 +393,15 @@ def _execute_in_world(
     T_world_object_est,
     recorder: _Recorder,
     progress: Progress,
-) -> tuple[GraspOutcome, list[dict]]:
-    """Build the world, execute the plan in it; (outcome, the snapshot events' data)."""
+) -> Execution:
+    """Build the world and execute the plan in it with the method's strategy, judged by
+    the run's held test."""
     plan = checked.plan
     progress("building the world")
-    snapshots: list[dict] = []
-    with inputs.backend_cls().create_world(config) as world:
+    worlds: list[World] = []
+
+    def on_world(world: World) -> None:
+        worlds.append(world)
         recorder.clock = lambda: world.time
         recorder.emit(
             WORLD_BUILT,
@@ -373,44 +415,48 @@ def _execute_in_world(
             T_world_object_est=T_world_object_est,
             table_height=TABLE_HEIGHT,
         )
-
-        arm, probe = world.arm, object_probe(world)
-        if arm is None:
+        if world.arm is None:
             raise GraspframeError("the world was built without the arm that moves the hand")
-
-        def on_cycle(motion: ArmMotion) -> None:
-            T_world_palm = world.hand.T_world_palm()
-            recorder.emit(
-                MOTION_CYCLE,
-                q_arm=arm.joint_positions(),
-                q_hand=world.hand.joint_positions(),
-                T_world_palm=T_world_palm,
-                T_world_object=probe.T_world_object(),
-                # Contacts now; reading the palm sensor would consume its latched touch.
-                palm_touched=any(c.real_finger == PALM for c in world.hand.contacts()),
-                distance_to_goal=float(
-                    np.linalg.norm(T_world_palm[:3, 3] - plan.T_world_palm_goal[:3, 3])
-                ),
-            )
-
-        def emit(kind: EventKind, **data) -> None:
-            if kind is EXECUTE_SNAPSHOT:
-                snapshots.append(data)
-            recorder.emit(kind, **data)
-
-        motion = ArmMotion(world, checked.robot, config.T_world_arm_base, on_cycle=on_cycle)
         progress(f"executing the {plan.preshape} preshape ({plan.approach} approach)")
-        outcome = execute_plan(
-            plan, world, motion, inputs.hand, inputs.obj, ExecutorParams(), emit=emit
+
+    def on_cycle(motion: ArmMotion) -> None:
+        world = worlds[0]
+        assert world.arm is not None  # on_world refused a world without one
+        T_world_palm = world.hand.T_world_palm()
+        recorder.emit(
+            MOTION_CYCLE,
+            q_arm=world.arm.joint_positions(),
+            q_hand=world.hand.joint_positions(),
+            T_world_palm=T_world_palm,
+            T_world_object=object_probe(world).T_world_object(),
+            # Contacts now; reading the palm sensor would consume its latched touch.
+            palm_touched=any(c.real_finger == PALM for c in world.hand.contacts()),
+            distance_to_goal=float(
+                np.linalg.norm(T_world_palm[:3, 3] - plan.T_world_palm_goal[:3, 3])
+            ),
         )
-    return outcome, snapshots
+
+    policy = MethodStrategy(plan, inputs.hand, inputs.obj, ExecutorParams())
+    return execute(
+        inputs.backend_cls(),
+        config,
+        policy,
+        inputs.held_test,
+        emit=recorder.emit,
+        on_world=on_world,
+        on_cycle=on_cycle,
+    )
 
 
 def _score_run(inputs, grasp, checked, outcome, recorder, result) -> None:
     """Score the robot against the human reference (result["score"]), with the human
     reference's picture beside the robot's."""
     obj, human = inputs.obj, inputs.human
-    reference = inputs.reference_file or human_reference(grasp, obj, human, inputs.backend_cls())
+    # The human reference is simulated on the default backend whatever backend executes
+    # the robot: the same reference for every robot backend (its cache key names it).
+    reference = inputs.reference_file or human_reference(
+        grasp, obj, human, inputs.reference_backend_cls(), inputs.held_test
+    )
     # A grasp turned about a symmetric object's axis is scored in the turned object frame.
     T_world_object_scored = outcome.T_world_object_at_hold @ make_T(checked.plan.R_object_symmetry)
     robot_contacts = [c.in_object_frame(T_world_object_scored) for c in outcome.contacts]
@@ -464,6 +510,7 @@ def _outcome_dict(outcome: GraspOutcome) -> dict:
         "held_after_lift": outcome.held_after_lift,
         "held_under_disturbance": outcome.held_under_disturbance,
         "object_rise": outcome.object_rise,
+        "lift_height": outcome.lift_height,
         "lift_motion": outcome.lift_motion.to_dict() if outcome.lift_motion else None,
         "disturbance": {d: m.to_dict() for d, m in outcome.disturbance.items()},
         "disturbance_skipped": outcome.disturbance_skipped,

@@ -110,7 +110,7 @@ def test_the_held_verdict_is_cached_with_the_contacts(tmp_path, monkeypatch):
     calls = []
     verdict = HeldVerdict(after_lift=True, under_disturbance=False, failure="slipped when pushed")
 
-    def fake_simulation(grasp, obj, human, backend, picture=None):
+    def fake_simulation(grasp, obj, human, backend, held=None, picture=None):
         calls.append(grasp)
         c = Contact(
             "hh_thumb_distal", "thumb", np.zeros(3), np.array([1.0, 0, 0]), np.zeros(3), "object"

@@ -472,7 +472,7 @@ def test_a_run_that_fails_midway_leaves_a_failed_result(tmp_path, monkeypatch):
     def broken(*args, **kwargs):
         raise RuntimeError("actuator fault")
 
-    monkeypatch.setattr(runner, "execute_plan", broken)
+    monkeypatch.setattr(runner, "execute", broken)
     with pytest.raises(RuntimeError):
         run_grasp(
             RunRequest(hand="barrett", grasp=G.PINCH, out_root=str(tmp_path), record=False),

@@ -1,23 +1,19 @@
-"""The executor: carry out a GraspPlan through the driver interfaces (the method's
-strategy, docs/method.md#the-grasp-strategy).
+"""The method's grasp strategy (docs/method.md#the-grasp-strategy): the robot's grasp
+policy for graspframe/strategy/execution.py.
 
 Stages: open the hand in its preshape while the arm moves the palm to the via and the
 pre-approach pose; approach along a (volar: until the first contact, correcting the goal
 while that contact is not on the palm, then centring the object on the grasp centre from
-where it touches the palm; non-volar: to the standoff goal, no feedback);
-close the hand; hold; lift; push the object (the disturbance test). Every step is
-reported as an event through `emit(kind, **data)`, `kind` one of the "execute.*" kinds
-declared in graspframe/events.py; EXECUTE_SNAPSHOT events carry the robot's joint values
-and the contacts at first contact, at the hold and after the lift, for pictures of the
-grasp.
-
-"Held": the held test of held_test.py (docs/method.md#held), after the hold.
+where it touches the palm; non-volar: to the standoff goal, no feedback); close the hand
+until it settles; hold. The held test and the pictures' moments at the hold and after
+the lift follow in execution.py, the same for every policy. Every step is reported as an
+event through `emit(kind, **data)`, `kind` one of the "execute.*" kinds declared in
+graspframe/events.py.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,8 +26,8 @@ from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import World
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
-from graspframe.strategy import held_test
-from graspframe.strategy.held_test import LIFT_HEIGHT, LIFT_SPEED, InHandMotion
+from graspframe.strategy.execution import Emit, GraspOutcome, Grip, run_policy, snapshot
+from graspframe.strategy.held_test import HeldTest
 from graspframe.strategy.planner import GraspPlan
 from graspframe.transforms import inv_T
 
@@ -43,6 +39,8 @@ MAX_CORRECTIONS = 4  # goal corrections of a volar approach (finger first, or of
 CENTRING_TOLERANCE = 0.005  # [m]
 MIN_RETREAT = 0.03  # [m] shortest start of a corrected approach before its goal
 APPROACH_SPEED = 0.05  # [m/s] non-volar approach, retreats, back-offs
+# The descent from the via to the pre-approach pose runs at twice the approach speed.
+DESCENT_SPEED = 2 * APPROACH_SPEED  # [m/s]
 # The volar approach is a guarded move: at 5 cm/s its first touch knocked a 12 cm handle
 # over (the arm brakes within a few millimetres, the handle tips at 0.14 N) in 2 of 6
 # runs of experiment B.
@@ -51,85 +49,28 @@ GUARDED_APPROACH_SPEED = 0.025  # [m/s]
 # than the 5 cm object position error of experiment B.
 APPROACH_OVERSHOOT = 0.07  # [m]
 CLOSE_TIME_LIMIT = 2.0  # [s]
+CLOSE_MIN_TIME = 0.2  # [s] the fingers move at least this long before they may count as settled
+CLOSE_CHECK_PERIOD = 0.05  # [s] how often the closing fingers' speed is measured
 SETTLED_SPEED = 0.05  # [rad/s] the hand counts as closed when no joint moves faster
 HOLD_TIME = 0.5  # [s]
-MIN_FINGERS = 2  # real fingers (the palm counts as one) that must touch for a grasp
+MIN_DESCENT = 1e-6  # [m] a shorter descent from the via to the pre-approach pose is skipped
 
 
 @dataclass(frozen=True)
 class ExecutorParams:
     """alpha_start, max_corrections: the volar correction loop; speeds [m/s], distances
-    [m], times [s]; disturb: run the disturbance test after the lift."""
+    [m], times [s]. The held test's own settings are `HeldTest`'s."""
 
     alpha_start: float = ALPHA_START
     max_corrections: int = MAX_CORRECTIONS
     approach_speed: float = APPROACH_SPEED
+    descent_speed: float = DESCENT_SPEED
     guarded_approach_speed: float = GUARDED_APPROACH_SPEED
     approach_overshoot: float = APPROACH_OVERSHOOT
     close_time_limit: float = CLOSE_TIME_LIMIT
+    close_min_time: float = CLOSE_MIN_TIME
+    settled_speed: float = SETTLED_SPEED
     hold_time: float = HOLD_TIME
-    lift_height: float = LIFT_HEIGHT
-    lift_speed: float = LIFT_SPEED
-    disturb: bool = True
-
-
-@dataclass
-class GraspOutcome:
-    """What happened: contacts at the hold (world frame), the object, the corrections.
-
-    held_after_lift: the object rose with the hand by at least HELD_RISE_FRACTION of the
-        lift and stayed within the in-hand bounds of its pose at the hold.
-    held_under_disturbance: it then stayed within the bounds while pushed in each of the
-        six directions; None when the test did not run (lift failed, backend cannot push).
-    object_rise: [m] object height gained during the lift.
-    lift_motion: the object's motion in the hand from the hold to the end of the lift.
-    disturbance: per direction ("+x", ...), the object's largest motion in the hand.
-    """
-
-    contacts: list[Contact]
-    T_world_object_at_hold: NDArray[np.float64]
-    corrections: int
-    palm_contact: bool
-    held_after_lift: bool
-    object_rise: float
-    fingers_after_lift: list[str]
-    lift_height: float
-    held_under_disturbance: bool | None = None
-    lift_motion: InHandMotion | None = None
-    disturbance: dict[str, InHandMotion] = field(default_factory=dict)
-    disturbance_skipped: str | None = None
-    goals: list[list[float]] = field(default_factory=list)
-    aborted: str | None = None
-
-    @property
-    def touching_fingers(self) -> list[str]:
-        return sorted({c.real_finger for c in self.contacts})
-
-    @property
-    def success(self) -> bool:
-        """Enough real fingers touched, the object was held in the lift and, when the
-        disturbance test ran, under the disturbance."""
-        return self.failure_reason is None
-
-    @property
-    def failure_reason(self) -> str | None:
-        """Why the grasp failed, in words (None when it succeeded)."""
-        if self.aborted:
-            return self.aborted
-        fingers = self.touching_fingers
-        if not fingers:
-            return "no real finger touched the object when the hand closed"
-        if len(fingers) < MIN_FINGERS:
-            return f"only {', '.join(fingers)} touched the object; a grasp needs {MIN_FINGERS}"
-        if not self.held_after_lift:
-            return held_test.lift_failure(self.object_rise, self.lift_height, self.lift_motion)
-        if self.held_under_disturbance is False:
-            return held_test.disturbance_failure(self.disturbance)
-        return None
-
-
-# emit(kind: EventKind, **payload): reports one event of a declared kind.
-Emit = Callable[..., None]
 
 
 def execute_plan(
@@ -140,31 +81,13 @@ def execute_plan(
     obj: ObjectDescription,
     params: ExecutorParams | None = None,
     emit: Emit | None = None,
+    held: HeldTest | None = None,
 ) -> GraspOutcome:
-    """Execute `plan` on `world` (the hand on an arm or on the floating base); see the
-    module docstring.
-
-    When the arm cannot carry the plan out (a pose out of reach, a line through a
-    singularity) the grasp is aborted where it stands and the outcome says why.
-    """
-    p = params or ExecutorParams()
-    emit = emit or (lambda kind, **data: None)
-    probe = held_test.object_probe(world)  # refuses a world without an object
-    try:
-        return _Execution(plan, world, motion, hand, obj, p, emit).run()
-    except MotionError as exc:
-        emit(events.EXECUTE_ABORTED, reason=str(exc))
-        return GraspOutcome(
-            contacts=world.hand.contacts(),
-            T_world_object_at_hold=probe.T_world_object(),
-            corrections=0,
-            palm_contact=False,
-            held_after_lift=False,
-            object_rise=0.0,
-            fingers_after_lift=[],
-            lift_height=p.lift_height,
-            aborted=f"the arm cannot carry out the plan: {exc}",
-        )
+    """Execute `plan` with the method's strategy on an existing world (the hand on an arm
+    or on the floating base) and judge it with `held` (default: `HeldTest()`); the
+    procedure of execution.run_policy."""
+    policy = MethodStrategy(plan, hand, obj, params or ExecutorParams())
+    return run_policy(world, motion, policy, obj, held or HeldTest(), emit)
 
 
 def _moved(T: NDArray[np.float64], shift: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -174,9 +97,22 @@ def _moved(T: NDArray[np.float64], shift: NDArray[np.float64]) -> NDArray[np.flo
     return T_moved
 
 
+@dataclass(frozen=True)
+class MethodStrategy:
+    """The method's strategy for one plan: a `GraspPolicy` (execution.py)."""
+
+    plan: GraspPlan
+    hand: HandDescription
+    obj: ObjectDescription
+    params: ExecutorParams = ExecutorParams()
+
+    def grasp(self, world: World, motion: ArmMotion, emit: Emit) -> Grip:
+        return _Strategy(self.plan, world, motion, self.hand, self.obj, self.params, emit).run()
+
+
 @dataclass
-class _Execution:
-    """One execution of a plan, stage by stage."""
+class _Strategy:
+    """One execution of the strategy, stage by stage."""
 
     plan: GraspPlan
     world: World
@@ -186,7 +122,7 @@ class _Execution:
     p: ExecutorParams
     emit: Emit
 
-    def run(self) -> GraspOutcome:
+    def run(self) -> Grip:
         preshape = self.hand.preshape(self.plan.preshape)
         self._move_to_pre_approach(preshape.open_q)
         if self.plan.volar:
@@ -198,34 +134,8 @@ class _Execution:
             palm_contact = self._approach_non_volar()
         self._close(preshape.closed_q)
         self.world.step(round(self.p.hold_time / self.world.timestep))
-        contacts = self.world.hand.contacts()
-        T_world_object_at_hold = held_test.object_probe(self.world).T_world_object()
-        self.emit(
-            events.EXECUTE_HOLD,
-            fingers=sorted({c.real_finger for c in contacts}),
-            n_contacts=len(contacts),
-            contacts=contacts,
-        )
-        self._snapshot("hold", contacts)
-        outcome = GraspOutcome(
-            contacts=contacts,
-            T_world_object_at_hold=T_world_object_at_hold,
-            corrections=corrections,
-            palm_contact=palm_contact,
-            held_after_lift=False,
-            object_rise=0.0,
-            fingers_after_lift=[],
-            lift_height=self.p.lift_height,
-            goals=goals,
-        )
-        self._lift(outcome)
-        if not self.p.disturb:
-            outcome.disturbance_skipped = "not asked for"
-        elif not outcome.held_after_lift:
-            outcome.disturbance_skipped = "the lift failed"
-        else:
-            self._disturb(outcome)
-        return outcome
+        goals_world = tuple((float(x), float(y), float(z)) for x, y, z in goals)
+        return Grip(corrections, palm_contact, goals_world)
 
     # -- stages -------------------------------------------------------------------------
 
@@ -235,11 +145,11 @@ class _Execution:
         self.emit(events.EXECUTE_PRESHAPE, preshape=plan.preshape)
         duration = motion.move_palm_to(plan.T_world_palm_via)
         descent = plan.T_world_palm_via[:3, 3] - plan.T_world_palm_pre[:3, 3]
-        if np.linalg.norm(descent) > 1e-6:
+        if np.linalg.norm(descent) > MIN_DESCENT:
             duration += motion.move_palm_linear(
                 -descent,
                 float(np.linalg.norm(descent)),
-                self.p.approach_speed * 2,
+                self.p.descent_speed,
                 stop_on_contact=False,
             ).duration
         self.emit(
@@ -358,7 +268,7 @@ class _Execution:
         world = self.world
         world.hand.set_joint_targets(closed_q)
         names = list(closed_q)
-        check_every = max(1, round(0.05 / world.timestep))
+        check_every = max(1, round(CLOSE_CHECK_PERIOD / world.timestep))
         previous = world.hand.joint_positions()
         start = world.time
         # Move for at least the shortest closing time before testing for the stop.
@@ -369,42 +279,10 @@ class _Execution:
                 check_every * world.timestep
             )
             previous = current
-            if world.time - start > 0.2 and speed < SETTLED_SPEED:
+            if world.time - start > self.p.close_min_time and speed < self.p.settled_speed:
                 break
         self.emit(
             events.EXECUTE_CLOSED, duration=world.time - start, q=dict(world.hand.joint_positions())
-        )
-
-    def _lift(self, outcome: GraspOutcome) -> None:
-        result = held_test.lift(self.world, self.motion, self.p.lift_height, self.p.lift_speed)
-        outcome.object_rise = result.object_rise
-        outcome.lift_motion = result.motion
-        outcome.held_after_lift = result.held
-        outcome.fingers_after_lift = sorted({c.real_finger for c in result.contacts})
-        self.emit(
-            events.EXECUTE_LIFT,
-            object_rise=result.object_rise,
-            held=result.held,
-            fingers=outcome.fingers_after_lift,
-            **result.motion.to_dict(),
-        )
-        self._snapshot("after lift", result.contacts)
-
-    def _disturb(self, outcome: GraspOutcome) -> None:
-        """Push the object with half its weight along each world axis in turn."""
-        try:
-            outcome.disturbance = held_test.disturb(self.world, self.obj)
-        except NotImplementedError as exc:
-            outcome.disturbance_skipped = str(exc)
-            outcome.disturbance.clear()
-            self.emit(events.EXECUTE_DISTURBANCE, skipped=str(exc))
-            return
-        outcome.held_under_disturbance = held_test.first_slip(outcome.disturbance) is None
-        self.emit(
-            events.EXECUTE_DISTURBANCE,
-            force=held_test.disturbance_force(self.obj),
-            held=outcome.held_under_disturbance,
-            motion={d: m.to_dict() for d, m in outcome.disturbance.items()},
         )
 
     # -- helpers ------------------------------------------------------------------------
@@ -454,14 +332,4 @@ class _Execution:
         return shift_world
 
     def _snapshot(self, label: str, contacts: list[Contact]) -> None:
-        """The robot's joints, the object and the contacts now, for pictures."""
-        world = self.world
-        self.emit(
-            events.EXECUTE_SNAPSHOT,
-            label=label,
-            q_arm=None if world.arm is None else world.arm.joint_positions(),
-            q_hand=world.hand.joint_positions(),
-            T_world_palm=world.hand.T_world_palm(),
-            T_world_object=held_test.object_probe(world).T_world_object(),
-            contacts=contacts,
-        )
+        snapshot(self.world, self.emit, label, contacts)

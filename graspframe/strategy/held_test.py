@@ -1,36 +1,42 @@
-"""The held test (docs/method.md#held), shared by the robot executor and the simulated
-human reference: lift the hand, then push the object.
+"""The held test (docs/method.md#held): one procedure and one set of criteria, for the
+robot's grasps and the simulated human reference alike.
 
-"Held": the object rises with a LIFT_HEIGHT lift (at least HELD_RISE_FRACTION of it) and
-stays within MAX_SHIFT_IN_HAND and MAX_TURN_IN_HAND_DEG of its pose in the hand at the
-hold; then, while a force of DISTURBANCE_FRACTION of its weight pushes it for
-DISTURBANCE_TIME along each of +x, -x, +y, -y, +z, -z (world, one after the other), it
-stays within the same bounds of its pose in the hand after the lift.
+"Held": the object rises with a `lift_height` lift (at least `held_rise_fraction` of
+it) and stays within `max_shift_in_hand` and `max_turn_in_hand_deg` of its pose in the
+hand at the hold; then, while a force of `disturbance_fraction` of its weight pushes it
+for `disturbance_time` along each of +x, -x, +y, -y, +z, -z (world, one after the
+other), it stays within the same bounds of its pose in the hand after the lift.
+
+`HeldTest` holds the criteria (defaults: the constants below and graspframe/defaults.py's
+LIFT_HEIGHT and DISTURBANCE_FRACTION, the only place each is written) and runs the test
+on the grasp in a world; `HeldVerdict` is what it found. A run passes one `HeldTest` to
+the robot's execution and to the human reference, so both are judged alike.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.contacts import Contact
+from graspframe.defaults import DISTURBANCE_FRACTION, LIFT_HEIGHT
 from graspframe.errors import GraspframeError
 from graspframe.hal.drivers import ObjectProbe, World
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.transforms import inv_T, rotation_angle
 
-LIFT_HEIGHT = 0.05  # [m]
 LIFT_SPEED = 0.05  # [m/s]
 SETTLE_TIME = 0.5  # [s] the hand stands still after the lift before it is judged
 HELD_RISE_FRACTION = 0.8  # the object must rise by at least this part of the lift
 MAX_SHIFT_IN_HAND = 0.02  # [m] largest displacement of the object in the palm frame
 MAX_TURN_IN_HAND_DEG = 15.0  # [deg] largest rotation of the object in the palm frame
-DISTURBANCE_FRACTION = 0.5  # of the object's weight
 DISTURBANCE_TIME = 0.5  # [s] per direction
+SAMPLE_PERIOD = 0.02  # [s] how often the object's pose in the hand is sampled
 GRAVITY = 9.81  # [m/s^2]
 DISTURBANCE_DIRECTIONS = {
     "+x": (1.0, 0.0, 0.0),
@@ -49,10 +55,6 @@ class InHandMotion:
 
     shift: float
     turn_deg: float
-
-    @property
-    def within_bounds(self) -> bool:
-        return self.shift <= MAX_SHIFT_IN_HAND and self.turn_deg <= MAX_TURN_IN_HAND_DEG
 
     def to_dict(self) -> dict:
         return {"shift_mm": 1000.0 * self.shift, "turn_deg": self.turn_deg}
@@ -94,68 +96,27 @@ def T_palm_object(world: World) -> NDArray[np.float64]:
     return inv_T(world.hand.T_world_palm()) @ object_probe(world).T_world_object()
 
 
-def lift(
-    world: World,
-    motion: ArmMotion,
-    lift_height: float = LIFT_HEIGHT,
-    lift_speed: float = LIFT_SPEED,
-    settle_time: float = SETTLE_TIME,
-) -> LiftResult:
-    """Raise the palm by lift_height [m] straight up, wait settle_time [s], and judge
-    whether the object came along."""
-    T_palm_object_hold = T_palm_object(world)
-    z_object_hold = object_probe(world).T_world_object()[2, 3]
-    samples: list[NDArray[np.float64]] = []
-    motion.move_palm_linear(
-        np.array([0.0, 0.0, 1.0]),
-        lift_height,
-        lift_speed,
-        stop_on_contact=False,
-        each_cycle=lambda: samples.append(T_palm_object(world)),
-    )
-    settle_steps = round(settle_time / world.timestep)
-    for _ in range(max(1, settle_steps // 10)):
-        world.step(10)
-        samples.append(T_palm_object(world))
-    rise = float(object_probe(world).T_world_object()[2, 3] - z_object_hold)
-    moved = in_hand_motion(T_palm_object_hold, samples)
-    held = rise >= HELD_RISE_FRACTION * lift_height and moved.within_bounds
-    return LiftResult(rise, moved, held, world.hand.contacts())
-
-
-def disturb(world: World, obj: ObjectDescription) -> dict[str, InHandMotion]:
-    """Push the object with DISTURBANCE_FRACTION of its weight along each world axis in
-    turn; per direction, its largest motion in the hand from its pose before the pushes.
-
-    Raises NotImplementedError when the backend cannot push an object."""
-    T_palm_object_ref = T_palm_object(world)
-    force = disturbance_force(obj)
-    check_every = max(1, round(0.02 / world.timestep))
-    checks = max(1, round(DISTURBANCE_TIME / (check_every * world.timestep)))
-    probe = object_probe(world)
-    motion_by_direction: dict[str, InHandMotion] = {}
-    for label, direction in DISTURBANCE_DIRECTIONS.items():
-        probe.apply_force(force * np.asarray(direction))
-        samples = []
-        for _ in range(checks):
-            world.step(check_every)
-            samples.append(T_palm_object(world))
-        probe.apply_force(None)
-        motion_by_direction[label] = in_hand_motion(T_palm_object_ref, samples)
-    return motion_by_direction
-
-
 @dataclass(frozen=True)
 class HeldVerdict:
-    """The outcome of `run`.
+    """What the held test found.
 
-    under_disturbance: None when the disturbance test did not run (the lift failed, or
-    the backend cannot push). failure: why it did not hold, in words (None: it held).
+    after_lift: the lift held; under_disturbance: the pushes held (None when they did not
+    run: the lift failed, they were not asked for, or the backend cannot push, which
+    `disturbance_skipped` says); failure: why it did not hold, in words (None: it held).
+    object_rise [m], lift_height [m], lift_motion: the lift; fingers_after_lift: the real
+    fingers touching after it; disturbance: per direction ("+x", ...), the object's
+    largest motion in the hand.
     """
 
     after_lift: bool
     under_disturbance: bool | None
     failure: str | None
+    object_rise: float = 0.0
+    lift_height: float = LIFT_HEIGHT
+    lift_motion: InHandMotion | None = None
+    fingers_after_lift: tuple[str, ...] = ()
+    disturbance: Mapping[str, InHandMotion] = field(default_factory=dict)
+    disturbance_skipped: str | None = None
 
     @property
     def held(self) -> bool:
@@ -174,66 +135,157 @@ class HeldVerdict:
         return cls(bool(data["held_after_lift"]), data["held_under_disturbance"], data["failure"])
 
 
-def run(world: World, motion: ArmMotion, obj: ObjectDescription) -> HeldVerdict:
-    """The whole held test on the grasp now in `world`: the lift, then (when it held and
-    the backend can push) the disturbance."""
-    lifted = lift(world, motion)
-    if not lifted.held:
-        failure = lift_failure(lifted.object_rise, LIFT_HEIGHT, lifted.motion)
-        return HeldVerdict(after_lift=False, under_disturbance=None, failure=failure)
-    try:
-        pushed = disturb(world, obj)
-    except NotImplementedError:
-        return HeldVerdict(after_lift=True, under_disturbance=None, failure=None)
-    slip = disturbance_failure(pushed)
-    return HeldVerdict(after_lift=True, under_disturbance=slip is None, failure=slip)
+@dataclass(frozen=True)
+class HeldTest:
+    """The held test's criteria (see the module docstring) and its procedure.
 
+    disturb: push the object after a lift that held (False: the lift alone judges).
+    """
 
-def criteria() -> tuple:
-    """Every constant the verdict depends on (for cache keys of stored verdicts)."""
-    return (
-        LIFT_HEIGHT,
-        LIFT_SPEED,
-        SETTLE_TIME,
-        HELD_RISE_FRACTION,
-        MAX_SHIFT_IN_HAND,
-        MAX_TURN_IN_HAND_DEG,
-        DISTURBANCE_FRACTION,
-        DISTURBANCE_TIME,
-        tuple(DISTURBANCE_DIRECTIONS),
-    )
+    lift_height: float = LIFT_HEIGHT
+    lift_speed: float = LIFT_SPEED
+    settle_time: float = SETTLE_TIME
+    held_rise_fraction: float = HELD_RISE_FRACTION
+    max_shift_in_hand: float = MAX_SHIFT_IN_HAND
+    max_turn_in_hand_deg: float = MAX_TURN_IN_HAND_DEG
+    disturbance_fraction: float = DISTURBANCE_FRACTION
+    disturbance_time: float = DISTURBANCE_TIME
+    disturb: bool = True
 
+    def within_bounds(self, motion: InHandMotion) -> bool:
+        return motion.shift <= self.max_shift_in_hand and motion.turn_deg <= (
+            self.max_turn_in_hand_deg
+        )
 
-def disturbance_force(obj: ObjectDescription) -> float:
-    """[N] the push of the disturbance test on `obj`."""
-    return DISTURBANCE_FRACTION * obj.mass * GRAVITY
+    def key(self) -> tuple:
+        """Every criterion the verdict depends on (for cache keys of stored verdicts)."""
+        return (
+            self.lift_height,
+            self.lift_speed,
+            self.settle_time,
+            self.held_rise_fraction,
+            self.max_shift_in_hand,
+            self.max_turn_in_hand_deg,
+            self.disturbance_fraction,
+            self.disturbance_time,
+            tuple(DISTURBANCE_DIRECTIONS),
+            self.disturb,
+        )
 
+    def disturbance_force(self, obj: ObjectDescription) -> float:
+        """[N] the push of the disturbance test on `obj`."""
+        return self.disturbance_fraction * obj.mass * GRAVITY
 
-def first_slip(motion_by_direction: dict[str, InHandMotion]) -> tuple[str, InHandMotion] | None:
-    """The first direction in which the object left the bounds, with its motion."""
-    return next(((d, m) for d, m in motion_by_direction.items() if not m.within_bounds), None)
+    # -- the procedure ------------------------------------------------------------------
 
+    def run(
+        self,
+        world: World,
+        motion: ArmMotion,
+        obj: ObjectDescription,
+        after_lift: Callable[[LiftResult], None] = lambda _lifted: None,
+    ) -> HeldVerdict:
+        """The whole held test on the grasp now in `world`: the lift, then (when it held,
+        the pushes are asked for and the backend can push) the pushes. `after_lift` hears
+        of the lift before the pushes start."""
+        lifted = self.lift(world, motion)
+        after_lift(lifted)
+        lifted_verdict = HeldVerdict(
+            after_lift=lifted.held,
+            under_disturbance=None,
+            failure=None,
+            object_rise=lifted.object_rise,
+            lift_height=self.lift_height,
+            lift_motion=lifted.motion,
+            fingers_after_lift=tuple(sorted({c.real_finger for c in lifted.contacts})),
+        )
+        if not lifted.held:
+            failure = self.lift_failure(lifted.object_rise, lifted.motion)
+            return replace(lifted_verdict, failure=failure, disturbance_skipped="the lift failed")
+        if not self.disturb:
+            return replace(lifted_verdict, disturbance_skipped="not asked for")
+        try:
+            pushed = self.push(world, obj)
+        except NotImplementedError as exc:
+            return replace(lifted_verdict, disturbance_skipped=str(exc))
+        slip = self.disturbance_failure(pushed)
+        return replace(
+            lifted_verdict, under_disturbance=slip is None, failure=slip, disturbance=pushed
+        )
 
-def lift_failure(object_rise: float, lift_height: float, motion: InHandMotion | None) -> str:
-    """Why a lift failed, in words."""
-    moved = ""
-    if motion is not None and not motion.within_bounds:
-        moved = f"; it moved {motion.describe()} in the hand"
-    return (
-        f"the object slipped during the lift: it rose {1000 * object_rise:.0f} mm "
-        f"of the hand's {1000 * lift_height:.0f} mm{moved}"
-    )
+    def lift(self, world: World, motion: ArmMotion) -> LiftResult:
+        """Raise the palm by lift_height straight up, wait settle_time, and judge whether
+        the object came along."""
+        T_palm_object_hold = T_palm_object(world)
+        z_object_hold = object_probe(world).T_world_object()[2, 3]
+        samples: list[NDArray[np.float64]] = []
+        motion.move_palm_linear(
+            np.array([0.0, 0.0, 1.0]),
+            self.lift_height,
+            self.lift_speed,
+            stop_on_contact=False,
+            each_cycle=lambda: samples.append(T_palm_object(world)),
+        )
+        settle_steps = round(self.settle_time / world.timestep)
+        sample_steps = 10  # [steps] between samples while settling
+        for _ in range(max(1, settle_steps // sample_steps)):
+            world.step(sample_steps)
+            samples.append(T_palm_object(world))
+        rise = float(object_probe(world).T_world_object()[2, 3] - z_object_hold)
+        moved = in_hand_motion(T_palm_object_hold, samples)
+        held = rise >= self.held_rise_fraction * self.lift_height and self.within_bounds(moved)
+        return LiftResult(rise, moved, held, world.hand.contacts())
 
+    def push(self, world: World, obj: ObjectDescription) -> dict[str, InHandMotion]:
+        """Push the object with disturbance_fraction of its weight along each world axis
+        in turn; per direction, its largest motion in the hand from its pose before the
+        pushes. Raises NotImplementedError when the backend cannot push an object."""
+        T_palm_object_ref = T_palm_object(world)
+        force = self.disturbance_force(obj)
+        check_every = max(1, round(SAMPLE_PERIOD / world.timestep))
+        checks = max(1, round(self.disturbance_time / (check_every * world.timestep)))
+        probe = object_probe(world)
+        motion_by_direction: dict[str, InHandMotion] = {}
+        for label, direction in DISTURBANCE_DIRECTIONS.items():
+            probe.apply_force(force * np.asarray(direction))
+            samples = []
+            for _ in range(checks):
+                world.step(check_every)
+                samples.append(T_palm_object(world))
+            probe.apply_force(None)
+            motion_by_direction[label] = in_hand_motion(T_palm_object_ref, samples)
+        return motion_by_direction
 
-def disturbance_failure(motion_by_direction: dict[str, InHandMotion]) -> str | None:
-    """Why the disturbance test failed, in words (None when it held)."""
-    slip = first_slip(motion_by_direction)
-    if slip is None:
-        return None
-    direction, motion = slip
-    return (
-        f"the object slipped under the disturbance: pushed along {direction} with "
-        f"{100 * DISTURBANCE_FRACTION:.0f} % of its weight it moved {motion.describe()} "
-        "in the hand "
-        f"(allowed {1000 * MAX_SHIFT_IN_HAND:.0f} mm, {MAX_TURN_IN_HAND_DEG:.0f} deg)"
-    )
+    # -- verdicts in words --------------------------------------------------------------
+
+    def first_slip(
+        self, motion_by_direction: Mapping[str, InHandMotion]
+    ) -> tuple[str, InHandMotion] | None:
+        """The first direction in which the object left the bounds, with its motion."""
+        return next(
+            ((d, m) for d, m in motion_by_direction.items() if not self.within_bounds(m)), None
+        )
+
+    def lift_failure(self, object_rise: float, motion: InHandMotion | None) -> str:
+        """Why a lift failed, in words."""
+        moved = ""
+        if motion is not None and not self.within_bounds(motion):
+            moved = f"; it moved {motion.describe()} in the hand"
+        return (
+            f"the object slipped during the lift: it rose {1000 * object_rise:.0f} mm "
+            f"of the hand's {1000 * self.lift_height:.0f} mm{moved}"
+        )
+
+    def disturbance_failure(self, motion_by_direction: Mapping[str, InHandMotion]) -> str | None:
+        """Why the disturbance test failed, in words (None when it held)."""
+        slip = self.first_slip(motion_by_direction)
+        if slip is None:
+            return None
+        direction, motion = slip
+        return (
+            f"the object slipped under the disturbance: pushed along {direction} with "
+            f"{100 * self.disturbance_fraction:.0f} % of its weight it moved "
+            f"{motion.describe()} in the hand "
+            f"(allowed {1000 * self.max_shift_in_hand:.0f} mm, "
+            f"{self.max_turn_in_hand_deg:.0f} deg)"
+        )

@@ -32,21 +32,22 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import NDArray
 
 from graspframe.contacts import OBJECT, Contact
 from graspframe.errors import InputError
 from graspframe.files import cache_dir
 from graspframe.floating_base import mount_floating
 from graspframe.grasps import HumanGrasp
-from graspframe.hal.descriptions import HandDescription
-from graspframe.hal.drivers import Backend, WorldConfig
+from graspframe.hal.descriptions import HandDescription, HandPreshape
+from graspframe.hal.drivers import Backend, World, WorldConfig
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.results import read_json_file, write_json
 from graspframe.snapshots import PICTURE_STYLE, Snapshot, draw_snapshots, scene_of_robot
-from graspframe.strategy import held_test
+from graspframe.strategy.execution import Emit, Grip, execute
 from graspframe.strategy.executor import APPROACH_SPEED  # the robots' non-volar approach
-from graspframe.strategy.held_test import HeldVerdict
+from graspframe.strategy.held_test import HeldTest, HeldVerdict
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 
@@ -54,6 +55,7 @@ FORMAT = "graspframe.human_contacts/1"
 # Part of the cache key: bump it when the way references are simulated changes.
 PROCEDURE_VERSION = 4
 SETTLE_TIME = 1.0  # [s] after the slowest joint could have reached its closed target
+OPENING_SETTLE_TIME = 0.2  # [s] after the slowest joint could have reached its open target
 # The hand takes its open posture this far back along its palm normal, then approaches.
 APPROACH_DISTANCE = 0.08  # [m]
 # Where the object stands in the reference world (the hand floats, so any place works).
@@ -146,20 +148,45 @@ def _load_cached(path: Path, obj: ObjectDescription) -> HumanReference:
     )
 
 
+@dataclass(frozen=True)
+class HumanClosing:
+    """The human hand's grasp policy (execution.py): take the open posture, approach the
+    reference palm pose along the palm normal, close towards the closed posture open-loop
+    (for the slowest joint's travel time, then SETTLE_TIME) until the fingers stop on
+    the object."""
+
+    human: HandDescription
+    posture: HandPreshape
+    approach_direction_world: NDArray[np.float64]
+
+    def grasp(self, world: World, motion: ArmMotion, emit: Emit) -> Grip:
+        world.hand.set_joint_targets(self.posture.open_q)
+        opening_time = _travel_time(self.human, {}, self.posture.open_q) + OPENING_SETTLE_TIME
+        world.step(round(opening_time / world.timestep))
+        motion.move_palm_linear(
+            self.approach_direction_world, APPROACH_DISTANCE, APPROACH_SPEED, stop_on_contact=False
+        )
+        world.hand.set_joint_targets(self.posture.closed_q)
+        travel_time = _travel_time(self.human, self.posture.open_q, self.posture.closed_q)
+        world.step(round((travel_time + SETTLE_TIME) / world.timestep))
+        return Grip()
+
+
 def simulate_human_grasp(
     grasp: HumanGrasp,
     obj: ObjectDescription,
     human: HandDescription,
     backend: Backend,
+    held: HeldTest | None = None,
     picture: Path | None = None,
 ) -> HumanReference:
-    """Perform the grasp with the human hand on the floating base, read its contacts at
-    the hold, then run the robots' held test (lift, disturbance) on it.
+    """Perform the grasp with the human hand on the floating base (`HumanClosing`),
+    read its contacts at the hold, and judge it with the robots' held test `held`.
 
     The hand shapes its open posture APPROACH_DISTANCE back along the palm normal from its
     reference palm pose, approaches that pose, closes until its fingers stop on the
-    object, holds, and is lifted. picture: also draw the hand at the hold and after the
-    lift (snapshots.py) to this PNG."""
+    object, holds, and is lifted and pushed. picture: also draw the hand at the hold and
+    after the lift (snapshots.py) to this PNG."""
     posture = human.preshape_for(grasp)
     T_world_object = make_T(p=[*T_WORLD_OBJECT_XY, obj.half_height])
     T_world_palm = T_world_object @ reference_placement(obj, posture).T_object_palm
@@ -174,31 +201,15 @@ def simulate_human_grasp(
         T_world_arm_base=T_world_base,
         T_world_object=T_world_object,
     )
-    moments: list[Snapshot] = []
-    with backend.create_world(config) as world:
-        motion = ArmMotion(world, robot, config.T_world_arm_base)
-        world.hand.set_joint_targets(posture.open_q)
-        world.step(round((_travel_time(human, {}, posture.open_q) + 0.2) / world.timestep))
-        motion.move_palm_linear(z_palm, APPROACH_DISTANCE, APPROACH_SPEED, stop_on_contact=False)
-        world.hand.set_joint_targets(posture.closed_q)
-        travel_time = _travel_time(human, posture.open_q, posture.closed_q)
-        world.step(round((travel_time + SETTLE_TIME) / world.timestep))
-        hold_contacts = world.hand.contacts()
-        T_world_object_at_hold = held_test.object_probe(world).T_world_object()
-        moments.append(_snapshot("hold", world, hold_contacts))
-        held = held_test.run(world, motion, obj)
-        moments.append(_snapshot("after lift and pushes", world, world.hand.contacts()))
-    contacts = tuple(c.in_object_frame(T_world_object_at_hold) for c in hold_contacts)
-    reference = HumanReference(grasp, obj.name, contacts, "simulated", held, picture)
+    execution = execute(backend, config, HumanClosing(human, posture, z_palm), held or HeldTest())
+    outcome = execution.outcome
+    verdict = outcome.held or HeldVerdict(False, None, outcome.failure_reason)
+    contacts = tuple(c.in_object_frame(outcome.T_world_object_at_hold) for c in outcome.contacts)
+    reference = HumanReference(grasp, obj.name, contacts, "simulated", verdict, picture)
     if picture is not None:
-        _draw(picture, reference, held, robot, config, moments)
+        moments = [Snapshot.from_event(data, robot.arm.joint_names) for data in execution.snapshots]
+        _draw(picture, reference, verdict, robot, config, moments)
     return reference
-
-
-def _snapshot(label: str, world, contacts: list[Contact]) -> Snapshot:
-    q = dict(world.hand.joint_positions())
-    q.update(zip(world.arm.joint_names, world.arm.joint_positions(), strict=True))
-    return Snapshot.with_contacts(label, q, world.object.T_world_object(), contacts)
 
 
 def _draw(
@@ -231,8 +242,15 @@ def _travel_time(
     )
 
 
-def _cache_key(grasp: HumanGrasp, obj: ObjectDescription, human: HandDescription) -> str:
+def _cache_key(
+    grasp: HumanGrasp,
+    obj: ObjectDescription,
+    human: HandDescription,
+    backend: Backend,
+    held: HeldTest,
+) -> str:
     digest = hashlib.sha256(f"procedure {PROCEDURE_VERSION}".encode())
+    digest.update(f"backend {backend.name}".encode())
     # The cached entry keeps its picture: a new picture style makes a new entry.
     digest.update(f"pictures {PICTURE_STYLE}".encode())
     digest.update(Path(human.model_path).read_bytes())
@@ -244,7 +262,7 @@ def _cache_key(grasp: HumanGrasp, obj: ObjectDescription, human: HandDescription
         digest.update(obj.mesh_geometry().fingerprint.encode())
     digest.update(repr((obj.static_friction, obj.dynamic_friction, human.drive)).encode())
     # The stored held verdict depends on how the grasp is made and judged.
-    procedure = (APPROACH_DISTANCE, APPROACH_SPEED, SETTLE_TIME, held_test.criteria())
+    procedure = (APPROACH_DISTANCE, APPROACH_SPEED, SETTLE_TIME, OPENING_SETTLE_TIME, held.key())
     digest.update(repr(procedure).encode())
     return f"{grasp.value}_{obj.name}_{digest.hexdigest()[:12]}"
 
@@ -254,14 +272,19 @@ def human_reference(
     obj: ObjectDescription,
     human: HandDescription,
     backend: Backend,
+    held: HeldTest | None = None,
     use_cache: bool = True,
 ) -> HumanReference:
-    """The simulated human reference with its picture, from the cache when it holds it."""
-    path = cache_dir("human_references") / f"{_cache_key(grasp, obj, human)}.json"
+    """The simulated human reference with its picture, from the cache when it holds it
+    (the cache key names the backend and the held test's criteria; default: the held
+    test's defaults, as a run uses)."""
+    held = held or HeldTest()
+    path = cache_dir("human_references") / f"{_cache_key(grasp, obj, human, backend, held)}.json"
     if use_cache and path.is_file():
         return _load_cached(path, obj)
     path.parent.mkdir(parents=True, exist_ok=True)
-    reference = simulate_human_grasp(grasp, obj, human, backend, picture=path.with_suffix(".png"))
+    picture = path.with_suffix(".png")
+    reference = simulate_human_grasp(grasp, obj, human, backend, held, picture=picture)
     if reference.contacts:
         write_json(path, reference.to_json())
     return reference

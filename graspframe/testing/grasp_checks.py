@@ -182,10 +182,10 @@ def _hand_alone(
 ):
     """(GraspOutcome, the execute.snapshot events' data, the CheckedPlan on the floating
     base) of `hand_alone_grasp`."""
-    from graspframe.events import EXECUTE_SNAPSHOT
-    from graspframe.motion.arm_motion import ArmMotion
     from graspframe.strategy.arm_path import floating_plan
-    from graspframe.strategy.executor import ExecutorParams, execute_plan
+    from graspframe.strategy.execution import execute
+    from graspframe.strategy.executor import MethodStrategy
+    from graspframe.strategy.held_test import HeldTest
 
     preshape = hand.preshape_for(grasp)
     if preshape.design_object is None:
@@ -202,17 +202,9 @@ def _hand_alone(
         T_world_arm_base=checked.T_world_base,
         T_world_object=T_world_object,
     )
-    snapshots: list[dict] = []
-
-    def emit(kind, **data) -> None:
-        if kind is EXECUTE_SNAPSHOT:
-            snapshots.append(data)
-
-    with backend.create_world(config) as world:
-        motion = ArmMotion(world, checked.robot, checked.T_world_base)
-        params = ExecutorParams(disturb=disturb)
-        outcome = execute_plan(checked.plan, world, motion, hand, obj, params, emit=emit)
-    return outcome, snapshots, checked
+    policy = MethodStrategy(checked.plan, hand, obj)
+    execution = execute(backend, config, policy, HeldTest(disturb=disturb))
+    return execution.outcome, list(execution.snapshots), checked
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,247 @@
+"""Executing a grasp: one procedure for the robot's runs, the human reference and the
+hand-alone checks.
+
+`execute` builds the world from its `WorldConfig` in a backend, puts an `ArmMotion` on
+it (the arm, or the floating base of a hand alone) and runs `run_policy`: the grasp
+policy brings the hand to the hold (the robot: the method's strategy,
+graspframe/strategy/executor.py; the human reference: its open-loop closing,
+graspframe/strategy/human_reference.py), then the one held test (held_test.py) judges
+the grasp, and the moments "hold" and "after lift" are recorded as execute.snapshot
+events for pictures. Every step is reported through `emit(kind, **data)` with the
+"execute.*" kinds of graspframe/events.py.
+
+A policy that the arm cannot carry out (a pose out of reach, a line through a
+singularity: `MotionError`) ends the grasp where it stands; the outcome says why.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from graspframe import events
+from graspframe.contacts import Contact
+from graspframe.errors import MotionError
+from graspframe.hal.drivers import Backend, World, WorldConfig
+from graspframe.hal.objects import ObjectDescription
+from graspframe.motion.arm_motion import ArmMotion
+from graspframe.strategy import held_test
+from graspframe.strategy.held_test import HeldTest, HeldVerdict, InHandMotion, LiftResult
+
+MIN_FINGERS = 2  # real fingers (the palm counts as one) that must touch for a grasp
+
+# emit(kind: EventKind, **payload): reports one event of a declared kind.
+Emit = Callable[..., None]
+
+
+@dataclass(frozen=True)
+class Grip:
+    """How a policy brought the hand to the hold: the goal corrections it made, whether
+    the palm touched the object, and the palm goals it tried [m] (world frame)."""
+
+    corrections: int = 0
+    palm_contact: bool = False
+    goals: tuple[tuple[float, float, float], ...] = ()
+
+
+class GraspPolicy(Protocol):
+    """Brings the hand from wherever the world starts to the hold (closed on the object,
+    settled); the held test follows."""
+
+    def grasp(self, world: World, motion: ArmMotion, emit: Emit) -> Grip: ...
+
+
+@dataclass(frozen=True)
+class GraspOutcome:
+    """What happened: contacts at the hold (world frame), the object's pose then, how the
+    policy got there, and the held test's verdict (None when the grasp was aborted)."""
+
+    contacts: list[Contact]
+    T_world_object_at_hold: NDArray[np.float64]
+    grip: Grip
+    held: HeldVerdict | None
+    aborted: str | None = None
+
+    @property
+    def touching_fingers(self) -> list[str]:
+        return sorted({c.real_finger for c in self.contacts})
+
+    @property
+    def corrections(self) -> int:
+        return self.grip.corrections
+
+    @property
+    def palm_contact(self) -> bool:
+        return self.grip.palm_contact
+
+    @property
+    def goals(self) -> list[list[float]]:
+        return [list(goal) for goal in self.grip.goals]
+
+    @property
+    def held_after_lift(self) -> bool:
+        return self.held is not None and self.held.after_lift
+
+    @property
+    def held_under_disturbance(self) -> bool | None:
+        return None if self.held is None else self.held.under_disturbance
+
+    @property
+    def object_rise(self) -> float:
+        return 0.0 if self.held is None else self.held.object_rise
+
+    @property
+    def lift_height(self) -> float:
+        return held_test.LIFT_HEIGHT if self.held is None else self.held.lift_height
+
+    @property
+    def lift_motion(self) -> InHandMotion | None:
+        return None if self.held is None else self.held.lift_motion
+
+    @property
+    def fingers_after_lift(self) -> list[str]:
+        return [] if self.held is None else list(self.held.fingers_after_lift)
+
+    @property
+    def disturbance(self) -> Mapping[str, InHandMotion]:
+        return {} if self.held is None else self.held.disturbance
+
+    @property
+    def disturbance_skipped(self) -> str | None:
+        return None if self.held is None else self.held.disturbance_skipped
+
+    @property
+    def success(self) -> bool:
+        """Enough real fingers touched and the held test passed."""
+        return self.failure_reason is None
+
+    @property
+    def failure_reason(self) -> str | None:
+        """Why the grasp failed, in words (None when it succeeded)."""
+        if self.aborted:
+            return self.aborted
+        fingers = self.touching_fingers
+        if not fingers:
+            return "no real finger touched the object when the hand closed"
+        if len(fingers) < MIN_FINGERS:
+            return f"only {', '.join(fingers)} touched the object; a grasp needs {MIN_FINGERS}"
+        assert self.held is not None  # an outcome that was not aborted was judged
+        return self.held.failure
+
+
+@dataclass(frozen=True)
+class Execution:
+    """An executed grasp: its outcome and the execute.snapshot events' data (the robot's
+    joints, the object and the contacts at its moments, for pictures)."""
+
+    outcome: GraspOutcome
+    snapshots: tuple[dict, ...] = field(default_factory=tuple)
+
+
+def execute(
+    backend: Backend,
+    config: WorldConfig,
+    policy: GraspPolicy,
+    held: HeldTest,
+    emit: Emit | None = None,
+    on_world: Callable[[World], None] | None = None,
+    on_cycle: Callable[[ArmMotion], None] | None = None,
+) -> Execution:
+    """Build the world of `config` in `backend`, grasp with `policy` on the mounted robot
+    (`config.robot`: the arm, or the floating base of a hand alone), judge the grasp
+    with `held`; the world is released afterwards.
+
+    on_world: hears of the world as soon as it is built (to read its clock);
+    on_cycle: called every control cycle of the motion.
+    """
+    if config.robot is None:
+        raise ValueError("execute needs the mounted robot (config.robot)")
+    if config.object is None:
+        raise ValueError("execute needs an object to grasp (config.object)")
+    snapshots: list[dict] = []
+
+    def forward(kind, **data) -> None:
+        if kind is events.EXECUTE_SNAPSHOT:
+            snapshots.append(data)
+        if emit is not None:
+            emit(kind, **data)
+
+    with backend.create_world(config) as world:
+        if on_world is not None:
+            on_world(world)
+        motion = ArmMotion(world, config.robot, config.T_world_arm_base, on_cycle=on_cycle)
+        outcome = run_policy(world, motion, policy, config.object, held, forward)
+    return Execution(outcome, tuple(snapshots))
+
+
+def run_policy(
+    world: World,
+    motion: ArmMotion,
+    policy: GraspPolicy,
+    obj: ObjectDescription,
+    held: HeldTest,
+    emit: Emit | None = None,
+) -> GraspOutcome:
+    """Grasp with `policy` in an existing world, then judge the grasp with `held`: the
+    procedure of `execute`, for callers that hold their own world."""
+    emit = emit or (lambda kind, **data: None)
+    probe = held_test.object_probe(world)  # refuses a world without an object
+    try:
+        grip = policy.grasp(world, motion, emit)
+    except MotionError as exc:
+        emit(events.EXECUTE_ABORTED, reason=str(exc))
+        return GraspOutcome(
+            contacts=world.hand.contacts(),
+            T_world_object_at_hold=probe.T_world_object(),
+            grip=Grip(),
+            held=None,
+            aborted=f"the arm cannot carry out the plan: {exc}",
+        )
+    contacts = world.hand.contacts()
+    T_world_object_at_hold = probe.T_world_object()
+    emit(
+        events.EXECUTE_HOLD,
+        fingers=sorted({c.real_finger for c in contacts}),
+        n_contacts=len(contacts),
+        contacts=contacts,
+    )
+    snapshot(world, emit, "hold", contacts)
+
+    def after_lift(lifted: LiftResult) -> None:
+        emit(
+            events.EXECUTE_LIFT,
+            object_rise=lifted.object_rise,
+            held=lifted.held,
+            fingers=sorted({c.real_finger for c in lifted.contacts}),
+            **lifted.motion.to_dict(),
+        )
+        snapshot(world, emit, "after lift", lifted.contacts)
+
+    verdict = held.run(world, motion, obj, after_lift)
+    if verdict.disturbance:
+        emit(
+            events.EXECUTE_DISTURBANCE,
+            force=held.disturbance_force(obj),
+            held=verdict.under_disturbance,
+            motion={d: m.to_dict() for d, m in verdict.disturbance.items()},
+        )
+    elif verdict.after_lift and held.disturb:  # the backend cannot push
+        emit(events.EXECUTE_DISTURBANCE, skipped=verdict.disturbance_skipped)
+    return GraspOutcome(contacts, T_world_object_at_hold, grip, verdict)
+
+
+def snapshot(world: World, emit: Emit, label: str, contacts: list[Contact]) -> None:
+    """The robot's joints, the object and the contacts now, for pictures."""
+    emit(
+        events.EXECUTE_SNAPSHOT,
+        label=label,
+        q_arm=None if world.arm is None else world.arm.joint_positions(),
+        q_hand=world.hand.joint_positions(),
+        T_world_palm=world.hand.T_world_palm(),
+        T_world_object=held_test.object_probe(world).T_world_object(),
+        contacts=contacts,
+    )

@@ -1,0 +1,61 @@
+"""One held test for the robot and the human reference: its criteria set in one place
+judge both (graspframe/strategy/held_test.py)."""
+
+from __future__ import annotations
+
+import pytest
+
+from graspframe.errors import InputError
+from graspframe.grasps import HumanGrasp
+from graspframe.registry import default_registry
+from graspframe.runner import RunRequest, run_grasp
+from graspframe.strategy.held_test import HeldTest, InHandMotion
+
+
+def test_a_lift_height_set_once_judges_the_robot_and_the_human(tmp_path, monkeypatch):
+    monkeypatch.setenv("GRASPFRAME_CACHE_DIR", str(tmp_path / "cache"))  # a fresh reference
+    judged: list[float] = []
+    original = HeldTest.run
+
+    def spy(self, world, motion, obj, after_lift=lambda _lifted: None):
+        judged.append(self.lift_height)
+        return original(self, world, motion, obj, after_lift)
+
+    monkeypatch.setattr(HeldTest, "run", spy)
+    request = RunRequest(
+        hand="barrett",
+        grasp=HumanGrasp.PINCH,
+        mount="floating",
+        out_root=str(tmp_path / "runs"),
+        record=False,
+        lift_height=0.03,
+    )
+    result = run_grasp(request, default_registry())
+    # The robot's grasp, then the human reference's: both lifted 3 cm.
+    assert judged == [0.03, 0.03]
+    outcome = result["outcome"]
+    assert outcome["lift_height"] == 0.03
+    assert outcome["held_after_lift"] and outcome["object_rise"] == pytest.approx(0.03, abs=0.005)
+    assert "--lift-height-mm 30" in result["reproduce"]
+
+
+@pytest.mark.parametrize(
+    ("fields", "message"),
+    [
+        ({"lift_height": 0.0}, r"lift height 0 mm is outside \(0, 300\] mm"),
+        ({"disturbance_fraction": -0.5}, r"disturbance fraction -0.5 is outside \[0, 5\]"),
+    ],
+)
+def test_a_held_test_outside_its_range_is_refused(fields, message):
+    with pytest.raises(InputError, match=message):
+        RunRequest(hand="barrett", grasp=HumanGrasp.PINCH, **fields).held_test()
+
+
+def test_the_bounds_and_the_words_follow_the_criteria():
+    strict = HeldTest(max_shift_in_hand=0.005, max_turn_in_hand_deg=5.0)
+    motion = InHandMotion(shift=0.01, turn_deg=2.0)
+    assert HeldTest().within_bounds(motion) and not strict.within_bounds(motion)
+    assert strict.first_slip({"+x": InHandMotion(0.0, 1.0), "-y": motion}) == ("-y", motion)
+    words = strict.disturbance_failure({"-y": motion})
+    assert words is not None and "(allowed 5 mm, 5 deg)" in words
+    assert "of the hand's 30 mm" in HeldTest(lift_height=0.03).lift_failure(0.01, None)
