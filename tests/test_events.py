@@ -45,10 +45,10 @@ def test_observers_get_the_descriptions_of_the_run_and_declared_events(
         def graspframe_run_event(self, run, event):
             received.append((run, event))
 
-    def stops_after_the_world_is_built(plan, world, motion, hand, obj, params=None, emit=None):
+    def stops_after_the_world_is_built(self, world, motion, emit):
         raise RuntimeError("stop here")
 
-    monkeypatch.setattr(runner, "execute_plan", stops_after_the_world_is_built)
+    monkeypatch.setattr(runner.MethodStrategy, "grasp", stops_after_the_world_is_built)
     registry = Registry.from_entry_points(strict=False)
     registry.add_plugin("observer", Observer())
     request = runner.RunRequest(

@@ -17,7 +17,9 @@ from graspframe.mounting import mount
 from graspframe.registry import default_registry
 from graspframe.runner import SCENE_OBJECT_XY
 from graspframe.strategy.arm_path import choose_plan
-from graspframe.strategy.executor import GraspOutcome, execute_plan
+from graspframe.strategy.execution import GraspOutcome, run_policy
+from graspframe.strategy.executor import MethodStrategy
+from graspframe.strategy.held_test import HeldTest
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.testing import assert_backend_contract, backend_problems
 from graspframe.testing.kinematic_backend import CONTACT_DISTANCE, KinematicBackend
@@ -88,12 +90,12 @@ def _run(
     events: list[tuple[str, dict]] = []
     with KinematicBackend().create_world(config) as world:
         motion = ArmMotion(world, checked.robot, checked.T_world_base)
-        outcome = execute_plan(
-            checked.plan,
+        outcome = run_policy(
             world,
             motion,
-            hand,
+            MethodStrategy(checked.plan, hand, obj),
             obj,
+            HeldTest(),
             emit=lambda kind, **data: events.append((kind.name, data)),
         )
     return outcome, events, checked.plan

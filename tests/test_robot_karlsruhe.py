@@ -585,7 +585,9 @@ def hand_alone_run(grasp: HumanGrasp, object_name: str | None = None):
     from graspframe.registry import default_registry
     from graspframe.runner import SCENE_OBJECT_XY, TABLE_HEIGHT
     from graspframe.strategy.arm_path import floating_plan
-    from graspframe.strategy.executor import execute_plan
+    from graspframe.strategy.execution import run_policy
+    from graspframe.strategy.executor import MethodStrategy
+    from graspframe.strategy.held_test import HeldTest
     from graspframe.strategy.reference_poses import reference_placement
     from graspframe.transforms import make_T
 
@@ -603,7 +605,7 @@ def hand_alone_run(grasp: HumanGrasp, object_name: str | None = None):
     )
     with SapienBackend().create_world(config) as world:
         motion = ArmMotion(world, checked.robot, checked.T_world_base)
-        return execute_plan(checked.plan, world, motion, HAND, obj)
+        return run_policy(world, motion, MethodStrategy(checked.plan, HAND, obj), obj, HeldTest())
 
 
 @pytest.mark.slow

@@ -148,11 +148,11 @@ def test_no_record_writes_no_recording(tmp_path):
 
 
 def test_a_run_that_raises_midway_leaves_a_readable_recording(tmp_path, monkeypatch):
-    def broken(plan, world, motion, hand, obj, params=None, emit=None):
-        motion.move_palm_to(plan.T_world_palm_via)  # some motion gets recorded
+    def broken(self, world, motion, emit):
+        motion.move_palm_to(self.plan.T_world_palm_via)  # some motion gets recorded
         raise RuntimeError("hand controller lost")
 
-    monkeypatch.setattr(runner, "execute_plan", broken)
+    monkeypatch.setattr(runner.MethodStrategy, "grasp", broken)
     assert (
         main(["run", "--hand", "barrett", "--grasp", "precision_disc", "--out", str(tmp_path)]) == 1
     )

@@ -25,7 +25,9 @@ from graspframe.mesh_geometry import display_mesh
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.registry import Registry, default_registry
 from graspframe.strategy.arm_path import floating_plan
-from graspframe.strategy.executor import ExecutorParams, execute_plan
+from graspframe.strategy.execution import run_policy
+from graspframe.strategy.executor import MethodStrategy
+from graspframe.strategy.held_test import HeldTest
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 
@@ -147,7 +149,7 @@ def _held(obj, hand_name: str):
     )
     with SapienBackend().create_world(config) as world:
         motion = ArmMotion(world, checked.robot, config.T_world_arm_base)
-        return execute_plan(checked.plan, world, motion, hand, obj, ExecutorParams())
+        return run_policy(world, motion, MethodStrategy(checked.plan, hand, obj), obj, HeldTest())
 
 
 @pytest.mark.slow

@@ -26,8 +26,7 @@ from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import World
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
-from graspframe.strategy.execution import Emit, GraspOutcome, Grip, run_policy, snapshot
-from graspframe.strategy.held_test import HeldTest
+from graspframe.strategy.execution import Emit, Grip, snapshot
 from graspframe.strategy.planner import GraspPlan
 from graspframe.transforms import inv_T
 
@@ -71,23 +70,6 @@ class ExecutorParams:
     close_min_time: float = CLOSE_MIN_TIME
     settled_speed: float = SETTLED_SPEED
     hold_time: float = HOLD_TIME
-
-
-def execute_plan(
-    plan: GraspPlan,
-    world: World,
-    motion: ArmMotion,
-    hand: HandDescription,
-    obj: ObjectDescription,
-    params: ExecutorParams | None = None,
-    emit: Emit | None = None,
-    held: HeldTest | None = None,
-) -> GraspOutcome:
-    """Execute `plan` with the method's strategy on an existing world (the hand on an arm
-    or on the floating base) and judge it with `held` (default: `HeldTest()`); the
-    procedure of execution.run_policy."""
-    policy = MethodStrategy(plan, hand, obj, params or ExecutorParams())
-    return run_policy(world, motion, policy, obj, held or HeldTest(), emit)
 
 
 def _moved(T: NDArray[np.float64], shift: NDArray[np.float64]) -> NDArray[np.float64]:

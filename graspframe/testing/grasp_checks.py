@@ -34,7 +34,7 @@ from graspframe.transforms import make_T
 
 if TYPE_CHECKING:  # the executor imports the planner, which imports this package's users
     from graspframe.strategy.arm_path import CheckedPlan
-    from graspframe.strategy.executor import GraspOutcome
+    from graspframe.strategy.execution import GraspOutcome
 
 OPPOSED_MAX_GAP = 0.015  # [m] largest gap left between opposing fingers, closed in free space
 OPEN_MIN_GAP = 0.03  # [m] an undeclared pair counts as opposing only from this far apart
