@@ -11,7 +11,7 @@ import logging
 import sys
 import traceback
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich.console import Console
@@ -30,6 +30,9 @@ from graspframe.defaults import (
 )
 from graspframe.errors import GraspframeError, InputError
 from graspframe.experiments.trials import TRIAL_TIME_LIMIT
+
+if TYPE_CHECKING:  # the run's types import the whole pipeline: only for annotations here
+    from graspframe.run_result import Quality, RunResult
 
 app = typer.Typer(
     name="graspframe",
@@ -213,63 +216,65 @@ def _tested(value: bool | None) -> str:
     return "not tested" if value is None else str(value)
 
 
-def _print_run_summary(result: dict) -> None:
-
-    plan, outcome, score = result["plan"], result["outcome"], result.get("score", {})
-    classification = result.get("classification")
-    if classification:
+def _print_run_summary(result: RunResult) -> None:
+    """The run in a few lines: the human grasp, the plan, the grasp and its held test,
+    the score, where the files are."""
+    classification = result.human.classification if result.human else None
+    if classification is not None:
         console.print(
-            f"image: human {classification['grasp']} "
-            f"(confidence {classification['confidence']:.2f}, {classification['classifier']})"
+            f"image: human {classification.grasp.value} "
+            f"(confidence {classification.confidence:.2f}, {classification.classifier})"
         )
-    console.print(
-        f"[bold]{plan['hand']}[/bold]: human {plan['grasp']} -> preshape {plan['preshape']}, "
-        f"{plan['approach']} approach, {'volar' if plan['volar'] else 'non-volar'}"
-    )
-    console.print(
-        f"corrections: {outcome['corrections']}   palm contact: {outcome['palm_contact']}   "
-        f"held after a {100 * outcome['lift_height']:.0f} cm lift: {outcome['held_after_lift']} "
-        f"(object rose {1000 * outcome['object_rise']:.0f} mm)   "
-        f"held under disturbance: {_tested(outcome['held_under_disturbance'])}"
-    )
-    per_finger: dict[str, int] = {}
-    for contact in outcome["contacts_world"]:
-        per_finger[contact["real_finger"]] = per_finger.get(contact["real_finger"], 0) + 1
-    listing = ", ".join(f"{f} {n}" for f, n in sorted(per_finger.items())) or "none"
-    console.print(f"contacts per real finger: {listing}")
-    if outcome["failure_reason"]:
-        console.print(f"[yellow]grasp failed:[/yellow] {outcome['failure_reason']}")
-    comparison = score.get("comparison")
-    if comparison:
-        robot_n, human_n = comparison["robot_count"], comparison["human_count"]
+    if result.plan is not None:
+        plan = result.plan.plan
         console.print(
-            f"virtual fingers robot {robot_n} / human {human_n}: "
-            f"position error {comparison['position_err_mm']:.1f} mm, "
-            f"orientation error {comparison['orientation_err_deg']:.1f} deg"
+            f"[bold]{plan.hand}[/bold]: human {plan.grasp.value} -> preshape {plan.preshape}, "
+            f"{plan.approach} approach, {'volar' if plan.volar else 'non-volar'}"
         )
-    elif "error" in score:
-        console.print(f"virtual fingers: not scored ({score['error']})")
-    human_held = score.get("human_held_test")
-    if human_held and not human_held["held"]:
+    outcome = result.outcome
+    if outcome is not None:
         console.print(
-            f"[yellow]the human reference does not hold:[/yellow] {human_held['failure']} "
-            "(scored against it all the same)"
+            f"corrections: {outcome.corrections}   palm contact: {outcome.palm_contact}   "
+            f"held after a {100 * outcome.lift_height:.0f} cm lift: {outcome.held_after_lift} "
+            f"(object rose {1000 * outcome.object_rise:.0f} mm)   "
+            f"held under disturbance: {_tested(outcome.held_under_disturbance)}"
         )
-    quality = score.get("quality") or {}
-    if quality:
+        per_finger: dict[str, int] = {}
+        for contact in outcome.contacts:
+            per_finger[contact.real_finger] = per_finger.get(contact.real_finger, 0) + 1
+        listing = ", ".join(f"{f} {n}" for f, n in sorted(per_finger.items())) or "none"
+        console.print(f"contacts per real finger: {listing}")
+        if outcome.failure_reason:
+            console.print(f"[yellow]grasp failed:[/yellow] {outcome.failure_reason}")
+    score = result.score
+    if score is not None:
+        if score.comparison is not None:
+            comparison = score.comparison
+            console.print(
+                f"virtual fingers robot {comparison.robot_count} / human "
+                f"{comparison.human_count}: position error {comparison.position_err_mm:.1f} mm, "
+                f"orientation error {comparison.orientation_err_deg:.1f} deg"
+            )
+        elif score.error is not None:
+            console.print(f"virtual fingers: not scored ({score.error})")
+        if score.human_held is not None and not score.human_held.held:
+            console.print(
+                f"[yellow]the human reference does not hold:[/yellow] "
+                f"{score.human_held.failure} (scored against it all the same)"
+            )
         console.print(
             "grasp quality (Ferrari-Canny epsilon, L1): "
-            + ", ".join(f"{who} {_quality_text(q)}" for who, q in quality.items())
+            f"robot {_quality_text(score.quality_robot)}, "
+            f"human {_quality_text(score.quality_human)}"
         )
-    console.print(f"result: {result['result_path']}")
-    if result.get("snapshots"):
-        console.print(f"pictures: {result['snapshots']}")
-    if result.get("human_reference_picture"):
-        console.print(f"human reference: {result['human_reference_picture']}")
-    if result.get("recording"):
-        console.print(
-            f"recording: {result['recording']}  (graspframe review {result['recording']})"
-        )
+    console.print(f"result: {result.result_path}")
+    if result.snapshots is not None:
+        console.print(f"pictures: {result.snapshots}")
+    if result.human_reference_picture is not None:
+        console.print(f"human reference: {result.human_reference_picture}")
+    recording = result.artifacts.get("recording")
+    if recording:
+        console.print(f"recording: {recording}  (graspframe review {recording})")
 
 
 @app.command()
@@ -522,12 +527,12 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
-def _quality_text(quality: dict | None) -> str:
-    if not quality:
+def _quality_text(quality: Quality) -> str:
+    if quality.error is not None:
+        return f"not computed ({quality.error})"
+    if quality.values is None:
         return "- (no contacts)"
-    if "error" in quality:
-        return f"not computed ({quality['error']})"
-    return f"{quality['epsilon_l1']:.3f}"
+    return f"{quality.values['epsilon_l1']:.3f}"
 
 
 def _console_script() -> None:

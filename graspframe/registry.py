@@ -322,18 +322,26 @@ class Registry:
     def notify_run_event(self, run: RunInfo, event: RunEvent) -> None:
         self._notify("graspframe_run_event", run=run, event=event)
 
-    def notify_run_finished(self, run: RunInfo, result: dict) -> None:
-        self._notify("graspframe_run_finished", run=run, result=result)
+    def notify_run_finished(self, run: RunInfo, result: Any) -> dict[str, str]:
+        """Tell the observers the run ended; the files they wrote for it, by name."""
+        artifacts: dict[str, str] = {}
+        for written in self._notify("graspframe_run_finished", run=run, result=result):
+            if isinstance(written, dict):
+                artifacts.update({str(k): str(v) for k, v in written.items()})
+        return artifacts
 
-    def _notify(self, hook: str, **kwargs: Any) -> None:
-        # Called per implementation: a failing observer is logged and the others still run.
+    def _notify(self, hook: str, **kwargs: Any) -> list[Any]:
+        """Call each implementation on its own (a failing observer is logged and the
+        others still run); what they returned."""
+        returned = []
         for impl in getattr(self._pm.hook, hook).get_hookimpls():
             try:
-                _call(impl, **kwargs)
+                returned.append(_call(impl, **kwargs))
             except Exception:
                 if self.strict:
                     raise
                 log.exception("observer %r failed in %s", impl.plugin_name, hook)
+        return returned
 
 
 def _spec_of_kind(path: str, kind: type, what: str) -> Any:

@@ -12,12 +12,11 @@ import shutil
 import time
 import traceback
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 
 import numpy as np
 
-from graspframe.contacts import Contact
 from graspframe.defaults import (
     DEFAULT_ARM,
     DEFAULT_BACKEND,
@@ -51,6 +50,14 @@ from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_con
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.registry import Registry, default_registry
 from graspframe.results import new_run_dir, versions, write_json
+from graspframe.run_result import (
+    Classification,
+    HumanGraspInput,
+    Quality,
+    RunResult,
+    Score,
+    plan_json,
+)
 from graspframe.scene import Scene, check_on_table, load_scene
 from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
 from graspframe.strategy.arm_path import CheckedPlan, choose_plan, floating_plan
@@ -235,10 +242,23 @@ def resolve(request: RunRequest, registry: Registry) -> _Inputs:
     )
 
 
+@dataclass
+class _Stages:
+    """What the stages have produced so far (the result is written from it in every
+    case, also when a stage raised)."""
+
+    human: HumanGraspInput | None = None
+    plan: CheckedPlan | None = None
+    execution: Execution | None = None
+    snapshots: Path | None = None
+    score: Score | None = None
+    human_reference_picture: Path | None = None
+
+
 def run_grasp(
     request: RunRequest, registry: Registry | None = None, progress: Progress | None = None
-) -> dict:
-    """Run one grasp and write runs/<id>/result.json; returns the result dictionary.
+) -> RunResult:
+    """Run one grasp and write runs/<id>/result.json; returns the result.
 
     A failure after the run folder exists is recorded (status "failed", the error) and
     re-raised; the result file is written in every case.
@@ -253,46 +273,48 @@ def run_grasp(
         run_dir.name, str(run_dir), asdict(request), hand=inputs.hand, arm=arm, object=inputs.obj
     )
     recorder = _Recorder(registry, run)
-    result: dict = {
-        "run_id": run.run_id,
-        "status": "running",
-        "request": asdict(request),
-        "reproduce": request.command(),
-        "seed": request.seed,
-        "versions": versions(),
-        "scene": {"object_xy": SCENE_OBJECT_XY, "table_height": TABLE_HEIGHT},
-    }
-    result_path = Path(run_dir) / "result.json"
-    write_json(result_path, result)
+    result = RunResult(run.run_id, request, versions(), Path(run_dir) / "result.json")
+    write_json(result.result_path, result.to_json())
     registry.notify_run_started(run)
+    stages = _Stages()
     started = time.perf_counter()
+    status, error, trace = "running", None, None
     try:
-        _execute(request, inputs, registry, recorder, result, progress)
-        result["status"] = "ok"
+        _run_stages(request, inputs, registry, recorder, stages, progress)
+        status = "ok"
     except BaseException as exc:
-        result["status"] = "failed"
-        result["error"] = f"{type(exc).__name__}: {exc}"
-        result["traceback"] = traceback.format_exc()
+        status, error, trace = "failed", f"{type(exc).__name__}: {exc}", traceback.format_exc()
         raise
     finally:
-        result["wall_time"] = time.perf_counter() - started
-        result["events"] = recorder.events
-        result["result_path"] = str(result_path)
-        # Observers may add to the result (the recorder adds where its recording is).
-        registry.notify_run_finished(run, result)
-        write_json(result_path, result)
+        result = replace(
+            result,
+            status=status,
+            error=error,
+            traceback=trace,
+            wall_time=time.perf_counter() - started,
+            events=tuple(recorder.events),
+            **asdict_shallow(stages),
+        )
+        # Observers say what they wrote (the recorder: where its recording is).
+        result = replace(result, artifacts=registry.notify_run_finished(run, result))
+        write_json(result.result_path, result.to_json())
     return result
 
 
-def _human_grasp(request, inputs, registry, recorder, result, progress):
-    """(grasp, T_object_human_palm, T_world_object): the human grasp relative to the
-    object and where the object is, from the stated grasp or from the image."""
+def asdict_shallow(stages: _Stages) -> dict:
+    """The stages' fields by name (not converted, unlike dataclasses.asdict)."""
+    return {f.name: getattr(stages, f.name) for f in fields(stages)}
+
+
+def _human_grasp(request, inputs, registry, recorder, progress) -> HumanGraspInput:
+    """The human grasp relative to the object and where the object is, from the stated
+    grasp or from the image."""
     obj, human = inputs.obj, inputs.human
     if inputs.scene is None:
         grasp = request.grasp
         placement = reference_placement(obj, human.preshape_for(grasp))
         T_world_object = make_T(p=[*SCENE_OBJECT_XY, TABLE_HEIGHT + obj.half_height])
-        return grasp, placement.T_object_palm, T_world_object
+        return HumanGraspInput(grasp, placement.T_object_palm, T_world_object)
 
     progress(f"classifying the image with {request.classifier}")
     classifier = registry.get_classifier(request.classifier)()
@@ -308,22 +330,18 @@ def _human_grasp(request, inputs, registry, recorder, result, progress):
     else:  # the object sits where the estimated posture holds it
         p_object_palm = -R_object_palm @ placement.p_palm_grasp
     T_object_palm = make_T(R_object_palm, p_object_palm)
-    classification = {
-        "classifier": request.classifier,
-        "grasp": grasp.value,
-        "confidence": estimate.confidence,
-        "R_camera_palm": estimate.R_camera_palm,
-        "p_camera_palm": estimate.p_camera_palm,
-        "neighbours": [
-            {"view_id": n.view_id, "grasp": n.grasp.value, "distance": n.distance}
-            for n in estimate.neighbours
-        ],
-        "T_object_palm": T_object_palm,
-    }
-    result["classification"] = classification
-    recorder.emit(CLASSIFY_DONE, **classification)
+    classification = Classification(
+        classifier=request.classifier,
+        grasp=grasp,
+        confidence=estimate.confidence,
+        R_camera_palm=estimate.R_camera_palm,
+        p_camera_palm=estimate.p_camera_palm,
+        neighbours=tuple(estimate.neighbours),
+        T_object_palm=T_object_palm,
+    )
+    recorder.emit(CLASSIFY_DONE, **classification.to_json())
     recorder.emit(CLASSIFY_IMAGES, image_bgr=inputs.image, mask=_hand_mask(inputs.image))
-    return grasp, T_object_palm, scene.T_world_object
+    return HumanGraspInput(grasp, T_object_palm, scene.T_world_object, classification)
 
 
 def _hand_mask(image):
@@ -332,15 +350,16 @@ def _hand_mask(image):
     return hand_mask(image)
 
 
-def _plan(request, inputs, grasp, T_object_human_palm, T_world_object_est) -> CheckedPlan:
+def _plan(request, inputs, human: HumanGraspInput, T_world_object_est) -> CheckedPlan:
     """The grasp plan, its path checked on the arm or on the floating base."""
     if request.mount == MOUNT_FLOATING:
         return floating_plan(
-            grasp, T_object_human_palm, T_world_object_est, inputs.hand, inputs.obj, TABLE_HEIGHT
-        )
+            human.grasp, human.T_object_palm, T_world_object_est, inputs.hand, inputs.obj,
+            TABLE_HEIGHT,
+        )  # fmt: skip
     return choose_plan(
-        grasp,
-        T_object_human_palm,
+        human.grasp,
+        human.T_object_palm,
         T_world_object_est,
         inputs.hand,
         inputs.arm,
@@ -350,40 +369,50 @@ def _plan(request, inputs, grasp, T_object_human_palm, T_world_object_est) -> Ch
     )
 
 
-def _execute(request, inputs, registry, recorder, result, progress) -> None:
-    """The run's stages in order: the human grasp, the plan, the execution in a world
-    built for it, its pictures, and the score against the human reference."""
-    grasp, T_object_human_palm, T_world_object = _human_grasp(
-        request, inputs, registry, recorder, result, progress
-    )
-    T_world_object_est = T_world_object.copy()
+def _run_stages(request, inputs, registry, recorder, stages: _Stages, progress) -> None:
+    """The run's stages in order, each result kept in `stages`: the human grasp, the
+    plan, the execution in a world built for it, its pictures, and the score against
+    the human reference."""
+    stages.human = human = _human_grasp(request, inputs, registry, recorder, progress)
+    T_world_object_est = human.T_world_object.copy()
     T_world_object_est[:2, 3] += request.object_error
 
     progress(
-        f"planning the {inputs.hand.name} grasp for a human {grasp.value} ({request.mount} mount)"
+        f"planning the {inputs.hand.name} grasp for a human {human.grasp.value} "
+        f"({request.mount} mount)"
     )
-    checked = _plan(request, inputs, grasp, T_object_human_palm, T_world_object_est)
-    result["plan"] = {**checked.plan.to_dict(), "variants_refused": list(checked.refused)}
-    recorder.emit(PLAN_DONE, **result["plan"])
+    stages.plan = checked = _plan(request, inputs, human, T_world_object_est)
+    recorder.emit(PLAN_DONE, **plan_json(checked))
 
     config = WorldConfig(
         hand=inputs.hand,
         object=inputs.obj,
         robot=checked.robot,
         T_world_arm_base=checked.T_world_base,
-        T_world_object=T_world_object,
+        T_world_object=human.T_world_object,
         table_height=TABLE_HEIGHT,
         seed=request.seed,
     )
-    execution = _execute_in_world(inputs, checked, config, T_world_object_est, recorder, progress)
-    outcome, snapshots = execution.outcome, list(execution.snapshots)
-    result["outcome"] = _outcome_dict(outcome)
-    result["snapshots"] = _draw_snapshots(
-        recorder.run.out_dir, checked, config, snapshots, outcome, grasp
+    stages.execution = execution = _execute_in_world(
+        inputs, checked, config, T_world_object_est, recorder, progress
+    )
+    stages.snapshots = _draw_snapshots(
+        recorder.run.out_dir, checked, config, execution, human.grasp
     )
 
     progress("scoring against the human reference")
-    _score_run(inputs, grasp, checked, outcome, recorder, result)
+    stages.score, reference = _score_run(inputs, human.grasp, checked, execution.outcome)
+    if reference.picture is not None:
+        # The human grasp's picture beside the robot's snapshots.png.
+        picture = Path(recorder.run.out_dir) / "human_reference.png"
+        shutil.copyfile(reference.picture, picture)
+        stages.human_reference_picture = picture
+    recorder.emit(
+        SCORE_DONE,
+        score=stages.score.to_json(),
+        human_contacts=list(stages.score.human_contacts),
+        robot_contacts_object=list(stages.score.robot_contacts),
+    )
 
 
 def _execute_in_world(
@@ -448,9 +477,8 @@ def _execute_in_world(
     )
 
 
-def _score_run(inputs, grasp, checked, outcome, recorder, result) -> None:
-    """Score the robot against the human reference (result["score"]), with the human
-    reference's picture beside the robot's."""
+def _score_run(inputs, grasp, checked, outcome: GraspOutcome) -> tuple[Score, HumanReference]:
+    """(the robot's grasp scored against the human reference, that reference)."""
     obj, human = inputs.obj, inputs.human
     # The human reference is simulated on the default backend whatever backend executes
     # the robot: the same reference for every robot backend (its cache key names it).
@@ -459,74 +487,54 @@ def _score_run(inputs, grasp, checked, outcome, recorder, result) -> None:
     )
     # A grasp turned about a symmetric object's axis is scored in the turned object frame.
     T_world_object_scored = outcome.T_world_object_at_hold @ make_T(checked.plan.R_object_symmetry)
-    robot_contacts = [c.in_object_frame(T_world_object_scored) for c in outcome.contacts]
-    result["score"] = _score(robot_contacts, reference, inputs.hand, human)
-    if reference.picture is not None:
-        # The human grasp's picture beside the robot's snapshots.png.
-        picture = Path(recorder.run.out_dir) / "human_reference.png"
-        shutil.copyfile(reference.picture, picture)
-        result["human_reference_picture"] = str(picture)
-    result["score"]["quality"] = {
-        "robot": _quality(robot_contacts, obj),
-        "human": _quality(list(reference.contacts), obj),
-    }
-    recorder.emit(
-        SCORE_DONE,
-        score=result["score"],
-        human_contacts=list(reference.contacts),
-        robot_contacts_object=robot_contacts,
+    robot_contacts = tuple(c.in_object_frame(T_world_object_scored) for c in outcome.contacts)
+    score = Score(
+        human_source=reference.source,
+        human_touching_fingers=tuple(reference.touching_fingers),
+        human_held=reference.held,
+        robot_contacts=robot_contacts,
+        human_contacts=tuple(reference.contacts),
+        quality_robot=_quality(list(robot_contacts), obj),
+        quality_human=_quality(list(reference.contacts), obj),
     )
+    try:
+        robot_vf = virtual_fingers_from_contacts(list(robot_contacts))
+        human_vf = virtual_fingers_from_contacts(reference.contacts)
+        comparison = compare(
+            robot_vf,
+            human_vf,
+            robot_real_fingers=list(inputs.hand.finger_names),
+            human_real_fingers=list(human.finger_names),
+        )
+    except GraspframeError as exc:
+        return replace(score, error=str(exc)), reference
+    return replace(score, robot=robot_vf, human=human_vf, comparison=comparison), reference
 
 
-def _draw_snapshots(run_dir, checked, config, snapshots, outcome, grasp) -> str | None:
+def _draw_snapshots(run_dir, checked, config, execution: Execution, grasp) -> Path | None:
     """snapshots.png in the run folder: the robot, object, table and contacts at first
-    contact, hold and after the lift; returns its path (None when nothing was captured)."""
-    if not snapshots:
+    contact, hold and after the lift (None when nothing was captured)."""
+    if not execution.snapshots:
         return None
-    hand, arm = config.hand, checked.robot.arm
+    hand, arm, outcome = config.hand, checked.robot.arm, execution.outcome
     scene = scene_of_robot(
         checked.robot.model, checked.T_world_base, hand, config.object, config.table_height
     )
-    frames = [Snapshot.from_event(data, arm.joint_names) for data in snapshots]
+    frames = [Snapshot.from_event(data, arm.joint_names) for data in execution.snapshots]
     verdict = "held" if outcome.success else f"failed: {outcome.failure_reason}"
     title = (
         f"{hand.name} on {arm.name}: human {grasp.value} -> {checked.plan.preshape}, "
         f"{config.object.name}; {verdict}"
     )
-    path = draw_snapshots(Path(run_dir) / "snapshots.png", scene, frames, title)
-    return str(path)
+    return draw_snapshots(Path(run_dir) / "snapshots.png", scene, frames, title)
 
 
-def _outcome_dict(outcome: GraspOutcome) -> dict:
-    T_world_object = outcome.T_world_object_at_hold
-    return {
-        "success": outcome.success,
-        "failure_reason": outcome.failure_reason,
-        "touching_fingers": outcome.touching_fingers,
-        "n_contacts": len(outcome.contacts),
-        "palm_contact": outcome.palm_contact,
-        "corrections": outcome.corrections,
-        "goals": outcome.goals,
-        "held_after_lift": outcome.held_after_lift,
-        "held_under_disturbance": outcome.held_under_disturbance,
-        "object_rise": outcome.object_rise,
-        "lift_height": outcome.lift_height,
-        "lift_motion": outcome.lift_motion.to_dict() if outcome.lift_motion else None,
-        "disturbance": {d: m.to_dict() for d, m in outcome.disturbance.items()},
-        "disturbance_skipped": outcome.disturbance_skipped,
-        "fingers_after_lift": outcome.fingers_after_lift,
-        "T_world_object_at_hold": T_world_object,
-        "contacts_world": [c.to_dict() for c in outcome.contacts],
-        "contacts_object": [c.in_object_frame(T_world_object).to_dict() for c in outcome.contacts],
-    }
-
-
-def _quality(contacts_object, obj) -> dict | None:
-    """Ferrari-Canny L1 quality of contacts given in the object frame (None without
+def _quality(contacts_object, obj) -> Quality:
+    """Ferrari-Canny L1 quality of contacts given in the object frame (no values without
     contacts): the object's static friction, torques about its centroid over its half
     largest dimension (docs/method.md, "Grasp quality")."""
     if not contacts_object:
-        return None
+        return Quality()
     try:
         quality = grasp_quality(
             [c.p for c in contacts_object],
@@ -535,51 +543,5 @@ def _quality(contacts_object, obj) -> dict | None:
             torque_length=obj.largest_dimension / 2,
         )
     except GraspframeError as exc:  # e.g. a measured contacts file without normals
-        return {"error": str(exc)}
-    return quality.to_dict()
-
-
-def _score(
-    robot_contacts: list[Contact],
-    reference: HumanReference,
-    hand: HandDescription,
-    human: HandDescription,
-) -> dict:
-    """Virtual fingers of robot and human from their object-frame contacts, compared."""
-    score: dict = {
-        "human_source": reference.source,
-        "human_touching_fingers": reference.touching_fingers,
-        # The simulated human grasp's own held test; None for measured contacts.
-        "human_held_test": None if reference.held is None else reference.held.to_dict(),
-    }
-    try:
-        robot_vf = virtual_fingers_from_contacts(robot_contacts)
-        human_vf = virtual_fingers_from_contacts(reference.contacts)
-        comparison = compare(
-            robot_vf,
-            human_vf,
-            robot_real_fingers=list(hand.finger_names),
-            human_real_fingers=list(human.finger_names),
-        )
-    except GraspframeError as exc:
-        score["error"] = str(exc)
-        return score
-    score.update(
-        robot=_with_contacts(robot_vf.to_dict(), robot_contacts),
-        human=_with_contacts(human_vf.to_dict(), list(reference.contacts)),
-        comparison=comparison.to_dict(),
-    )
-    # Name the real fingers on each side of every matched pair.
-    for pair in score["comparison"]["pairs"]:
-        pair["robot_members"] = score["robot"]["virtual_fingers"][pair["robot_index"]]["members"]
-        pair["human_members"] = score["human"]["virtual_fingers"][pair["human_index"]]["members"]
-    return score
-
-
-def _with_contacts(grasp: dict, contacts_object) -> dict:
-    """The virtual-finger dict with each virtual finger's contacts (object frame: p [m],
-    n, f [N]) listed under it, taken from the real fingers it is made of."""
-    for vf in grasp["virtual_fingers"]:
-        members = set(vf["members"])
-        vf["contacts"] = [c.to_dict() for c in contacts_object if c.real_finger in members]
-    return grasp
+        return Quality(error=str(exc))
+    return Quality(quality.to_dict())

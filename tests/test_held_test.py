@@ -30,7 +30,7 @@ def test_a_lift_height_set_once_judges_the_robot_and_the_human(tmp_path, monkeyp
         record=False,
         lift_height=0.03,
     )
-    result = run_grasp(request, default_registry())
+    result = run_grasp(request, default_registry()).to_json()
     # The robot's grasp, then the human reference's: both lifted 3 cm.
     assert judged == [0.03, 0.03]
     outcome = result["outcome"]

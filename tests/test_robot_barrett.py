@@ -430,7 +430,7 @@ def test_hand_alone_holds_each_grasp_on_its_default_object(grasp, tmp_path):
     request = RunRequest(
         hand="barrett", grasp=grasp, mount=MOUNT_FLOATING, record=False, out_root=str(tmp_path)
     )
-    outcome = run_grasp(request)["outcome"]
+    outcome = run_grasp(request).to_json()["outcome"]
     assert outcome["success"], outcome["failure_reason"]
     assert outcome["held_after_lift"] and outcome["held_under_disturbance"]
 

@@ -245,7 +245,7 @@ def test_the_recording_takes_the_hand_and_object_from_the_run(fake_hand, fake_ha
             "distance_to_goal": 0.1,
         },
     )
-    recording.finish({"status": "ok"})
+    recording.finish("ok")
     rows = rrd_rows(recording.path)
     assert "/world/object" in rows and "/plots/joints/fk_finger_joint" in rows
     assert any(entity.startswith("/world/robot/fk_finger/collision/") for entity in rows)
@@ -288,7 +288,7 @@ def test_every_cycle_is_recorded_at_its_time_with_its_values(fake_hand, fake_han
         if i == 3:  # another event between cycles: those before it are sent first
             recording.handle(EXECUTE_PRESHAPE.name, sim_time, {"preshape": "pinch"})
         recording.handle(MOTION_CYCLE.name, sim_time, data)
-    recording.finish({"status": "ok"})
+    recording.finish("ok")
 
     samples = rrd_samples(recording.path)
     cycle_time_ns = [round(1e9 * t) for t in cycle_times]
@@ -361,7 +361,7 @@ def test_visual_meshes_are_recorded_with_the_collision_shapes_as_an_overlay(fake
     T_world_object = make_T(p=[0.1, 0.0, 0.05])
     world_built = _world_built(LEAP_URDF, T_world_object)
     recording.handle(WORLD_BUILT.name, 0.0, world_built)
-    recording.finish({"status": "ok"})
+    recording.finish("ok")
     alphas = _albedo_alpha(recording.path)
     # The palm: its vendor mesh, opaque, and its collision boxes, see-through.
     assert alphas["/world/robot/palm_lower/visual/0"] == 255

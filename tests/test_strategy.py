@@ -250,7 +250,7 @@ def test_a_plan_without_a_collision_free_path_is_refused():
 @functools.cache
 def _run(out_root: str, **fields) -> dict:
     """One run per distinct request (shared by the tests of this module)."""
-    return run_grasp(RunRequest(out_root=out_root, record=False, **fields), REGISTRY)
+    return run_grasp(RunRequest(out_root=out_root, record=False, **fields), REGISTRY).to_json()
 
 
 @pytest.fixture(scope="module")
@@ -371,7 +371,7 @@ def test_result_json_holds_everything_to_reproduce_the_run(tmp_path):
             hand="barrett", grasp=G.PRECISION_DISC, seed=5, out_root=str(tmp_path), record=False
         ),
         REGISTRY,
-    )
+    ).to_json()
     saved = json.loads(Path(result["result_path"]).read_text())
     assert saved["status"] == "ok"
     assert saved["seed"] == 5
@@ -421,7 +421,7 @@ def test_a_backend_that_cannot_push_reports_the_disturbance_test_as_not_run(tmp_
     result = run_grasp(
         RunRequest(hand="barrett", grasp=G.POWER_SPHERE, out_root=str(tmp_path), record=False),
         REGISTRY,
-    )
+    ).to_json()
     outcome = result["outcome"]
     assert outcome["held_after_lift"] and outcome["held_under_disturbance"] is None
     assert "cannot push" in outcome["disturbance_skipped"]
@@ -457,7 +457,7 @@ def test_measured_human_contacts_file_replaces_the_simulation(tmp_path):
             record=False,
         ),
         REGISTRY,
-    )
+    ).to_json()
     assert result["score"]["human_source"] == str(path)
     assert result["score"]["human_held_test"] is None  # measured contacts: taken as given
     bad = tmp_path / "bad.json"

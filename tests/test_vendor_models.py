@@ -52,7 +52,7 @@ def test_the_leap_hand_grasps_on_the_floating_base(leap_hand_dir, tmp_path):
             record=False,
         ),
         default_registry(),
-    )
+    ).to_json()
     assert result["status"] == "ok" and _held(result), result["outcome"]["failure_reason"]
     assert "index" in result["outcome"]["touching_fingers"]
 
@@ -63,7 +63,7 @@ def test_the_panda_carries_a_hand_through_a_held_grasp(panda_description_dir, tm
     result = run_grasp(
         RunRequest(hand=hand, arm=str(PANDA_SPEC), out_root=str(tmp_path), record=False),
         default_registry(),
-    )
+    ).to_json()
     assert result["status"] == "ok" and _held(result), result["outcome"]["failure_reason"]
     assert result["plan"]["approach"] == "side"
     assert _digests(panda_description_dir) == before

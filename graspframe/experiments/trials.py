@@ -90,29 +90,33 @@ def run_trial(spec: TrialSpec) -> dict:
         row.update(status="failed", error=f"{type(exc).__name__}: {exc}")
         row["wall_time"] = time.perf_counter() - started
         return row
-    outcome, score = result["outcome"], result.get("score", {})
-    comparison = score.get("comparison") or {}
-    quality = score.get("quality") or {}
+    outcome, score = result.outcome, result.score
+    if outcome is None:  # run_grasp either raises or executes the grasp
+        raise RuntimeError(f"run {result.run_id} ended without executing the grasp")
+    comparison = None if score is None else score.comparison
+    robot_quality = {} if score is None else dict(score.quality_robot.values or {})
+    human_quality = {} if score is None else dict(score.quality_human.values or {})
+    human_held = None if score is None or score.human_held is None else score.human_held.held
     row.update(
         status="ok",
-        result_path=result["result_path"],
-        success=outcome["success"],
-        held_after_lift=outcome["held_after_lift"],
-        held_under_disturbance=outcome["held_under_disturbance"],
-        failure_reason=outcome["failure_reason"],
-        touching_fingers=outcome["touching_fingers"],
-        corrections=outcome["corrections"],
-        palm_contact=outcome["palm_contact"],
-        position_err_mm=comparison.get("position_err_mm"),
-        orientation_err_deg=comparison.get("orientation_err_deg"),
-        robot_vf=comparison.get("robot_count"),
-        human_vf=comparison.get("human_count"),
-        score_error=score.get("error"),
-        robot_epsilon=(quality.get("robot") or {}).get("epsilon_l1"),
-        human_epsilon=(quality.get("human") or {}).get("epsilon_l1"),
-        robot_volume=(quality.get("robot") or {}).get("volume_l1"),
-        human_volume=(quality.get("human") or {}).get("volume_l1"),
-        human_held=(score.get("human_held_test") or {}).get("held"),
+        result_path=str(result.result_path),
+        success=outcome.success,
+        held_after_lift=outcome.held_after_lift,
+        held_under_disturbance=outcome.held_under_disturbance,
+        failure_reason=outcome.failure_reason,
+        touching_fingers=outcome.touching_fingers,
+        corrections=outcome.corrections,
+        palm_contact=outcome.palm_contact,
+        position_err_mm=None if comparison is None else comparison.position_err_mm,
+        orientation_err_deg=None if comparison is None else comparison.orientation_err_deg,
+        robot_vf=None if comparison is None else comparison.robot_count,
+        human_vf=None if comparison is None else comparison.human_count,
+        score_error=None if score is None else score.error,
+        robot_epsilon=robot_quality.get("epsilon_l1"),
+        human_epsilon=human_quality.get("epsilon_l1"),
+        robot_volume=robot_quality.get("volume_l1"),
+        human_volume=human_quality.get("volume_l1"),
+        human_held=human_held,
         wall_time=time.perf_counter() - started,
     )
     return row

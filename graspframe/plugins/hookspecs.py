@@ -62,5 +62,7 @@ def graspframe_run_event(run: RunInfo, event: RunEvent) -> None:
 
 
 @hookspec
-def graspframe_run_finished(run: RunInfo, result: dict) -> None:
-    """`run` ended; `result` is its result dictionary (status "ok" or "failed")."""
+def graspframe_run_finished(run: RunInfo, result: Any) -> dict[str, str] | None:
+    """`run` ended; `result` is its `graspframe.run_result.RunResult` (status "ok" or
+    "failed"). Return the files this observer wrote for the run, by name (e.g.
+    {"recording": path}); result.json lists them."""

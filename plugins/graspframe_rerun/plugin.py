@@ -27,6 +27,7 @@ def graspframe_run_event(run, event):
 @hookimpl
 def graspframe_run_finished(run, result):
     recording = _recordings.pop(run.run_id, None)
-    if recording is not None:
-        recording.finish(result)
-        result["recording"] = str(recording.path)
+    if recording is None:
+        return None
+    recording.finish(result.status, result.error)
+    return {"recording": str(recording.path)}

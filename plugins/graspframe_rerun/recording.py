@@ -310,10 +310,11 @@ class RunRecording:
             static=True,
         )
 
-    def finish(self, result: dict) -> None:
-        """Send the cycles still buffered, log how the run ended and close the file."""
+    def finish(self, status: str, error: str | None = None) -> None:
+        """Send the cycles still buffered, log how the run ended (its status and error)
+        and close the file."""
         self._flush_cycles()
-        self.text(f"run {result.get('status')}: {result.get('error', '')}")
+        self.text(f"run {status}: {error or ''}")
         self.stream.flush()
         self.stream.disconnect()
 

@@ -1,0 +1,240 @@
+"""What each stage of a run hands to the next, and the run's result: typed values, and
+the one place result.json is written from them.
+
+The stages (graspframe/runner.py): the human grasp (`HumanGraspInput`: stated, or
+classified from an image, `Classification`), the checked plan (`CheckedPlan`,
+strategy/arm_path.py), the execution (`Execution`, strategy/execution.py: the outcome
+with its held verdict, and the moments for pictures), the score against the human
+reference (`Score`). `RunResult` holds them all, with what the run was asked, how it
+ended and where its files are; `RunResult.to_json()` is result.json (format
+RESULT_FORMAT), read back as plain JSON by the sweeps' tables and by users.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from graspframe.contacts import Contact
+from graspframe.defaults import SCENE_OBJECT_XY, TABLE_HEIGHT
+from graspframe.grasps import HumanGrasp
+from graspframe.hal.classifier import Neighbour
+from graspframe.metrics.virtual_fingers import VirtualFingerComparison, VirtualFingerGrasp
+from graspframe.strategy.arm_path import CheckedPlan
+from graspframe.strategy.execution import Execution, GraspOutcome
+from graspframe.strategy.held_test import HeldVerdict
+
+if TYPE_CHECKING:  # the runner imports this module
+    from graspframe.runner import RunRequest
+
+RESULT_FORMAT = "graspframe.result/2"
+
+
+@dataclass(frozen=True)
+class Classification:
+    """A classifier's answer for the run's image, and the human palm it places on the
+    object (T_object_palm)."""
+
+    classifier: str
+    grasp: HumanGrasp
+    confidence: float
+    R_camera_palm: NDArray[np.float64]
+    p_camera_palm: NDArray[np.float64] | None
+    neighbours: tuple[Neighbour, ...]
+    T_object_palm: NDArray[np.float64]
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "classifier": self.classifier,
+            "grasp": self.grasp.value,
+            "confidence": self.confidence,
+            "R_camera_palm": self.R_camera_palm,
+            "p_camera_palm": self.p_camera_palm,
+            "neighbours": [
+                {"view_id": n.view_id, "grasp": n.grasp.value, "distance": n.distance}
+                for n in self.neighbours
+            ],
+            "T_object_palm": self.T_object_palm,
+        }
+
+
+@dataclass(frozen=True)
+class HumanGraspInput:
+    """The human grasp the robot copies: which grasp, the human palm in the object frame
+    (T_object_palm) and where the object is (T_world_object); `classification` when it
+    came from an image."""
+
+    grasp: HumanGrasp
+    T_object_palm: NDArray[np.float64]
+    T_world_object: NDArray[np.float64]
+    classification: Classification | None = None
+
+
+@dataclass(frozen=True)
+class Quality:
+    """Ferrari-Canny L1 grasp quality of a contact set (metrics/quality.py's numbers), or
+    why it could not be computed."""
+
+    values: Mapping[str, Any] | None = None
+    error: str | None = None
+
+    def to_json(self) -> dict[str, Any] | None:
+        if self.error is not None:
+            return {"error": self.error}
+        return None if self.values is None else dict(self.values)
+
+
+@dataclass(frozen=True)
+class Score:
+    """The robot's grasp against the human reference.
+
+    human_source: where the reference came from ("simulated", "cache" or a file);
+    human_held: the simulated reference's own held test (None for measured contacts);
+    robot_contacts, human_contacts: object frame; robot, human: their virtual fingers
+    and `comparison` (None when they could not be scored: `error` says why);
+    quality_robot, quality_human: grasp quality of each contact set.
+    """
+
+    human_source: str
+    human_touching_fingers: tuple[str, ...]
+    human_held: HeldVerdict | None
+    robot_contacts: tuple[Contact, ...]
+    human_contacts: tuple[Contact, ...]
+    robot: VirtualFingerGrasp | None = None
+    human: VirtualFingerGrasp | None = None
+    comparison: VirtualFingerComparison | None = None
+    error: str | None = None
+    quality_robot: Quality = field(default_factory=Quality)
+    quality_human: Quality = field(default_factory=Quality)
+
+    def to_json(self) -> dict[str, Any]:
+        data: dict[str, Any] = {
+            "human_source": self.human_source,
+            "human_touching_fingers": list(self.human_touching_fingers),
+            "human_held_test": None if self.human_held is None else self.human_held.to_dict(),
+        }
+        if self.error is not None:
+            data["error"] = self.error
+        if self.robot is not None and self.human is not None and self.comparison is not None:
+            robot = _with_contacts(self.robot.to_dict(), self.robot_contacts)
+            human = _with_contacts(self.human.to_dict(), self.human_contacts)
+            comparison = self.comparison.to_dict()
+            # Name the real fingers on each side of every matched pair.
+            for pair in comparison["pairs"]:
+                pair["robot_members"] = robot["virtual_fingers"][pair["robot_index"]]["members"]
+                pair["human_members"] = human["virtual_fingers"][pair["human_index"]]["members"]
+            data.update(robot=robot, human=human, comparison=comparison)
+        data["quality"] = {
+            "robot": self.quality_robot.to_json(),
+            "human": self.quality_human.to_json(),
+        }
+        return data
+
+
+def _with_contacts(grasp: dict, contacts_object) -> dict:
+    """The virtual-finger dict with each virtual finger's contacts (object frame: p [m],
+    n, f [N]) listed under it, taken from the real fingers it is made of."""
+    for vf in grasp["virtual_fingers"]:
+        members = set(vf["members"])
+        vf["contacts"] = [c.to_dict() for c in contacts_object if c.real_finger in members]
+    return grasp
+
+
+def outcome_json(outcome: GraspOutcome) -> dict[str, Any]:
+    """result.json's "outcome": the grasp and its held test."""
+    T_world_object = outcome.T_world_object_at_hold
+    return {
+        "success": outcome.success,
+        "failure_reason": outcome.failure_reason,
+        "touching_fingers": outcome.touching_fingers,
+        "n_contacts": len(outcome.contacts),
+        "palm_contact": outcome.palm_contact,
+        "corrections": outcome.corrections,
+        "goals": outcome.goals,
+        "held_after_lift": outcome.held_after_lift,
+        "held_under_disturbance": outcome.held_under_disturbance,
+        "object_rise": outcome.object_rise,
+        "lift_height": outcome.lift_height,
+        "lift_motion": outcome.lift_motion.to_dict() if outcome.lift_motion else None,
+        "disturbance": {d: m.to_dict() for d, m in outcome.disturbance.items()},
+        "disturbance_skipped": outcome.disturbance_skipped,
+        "fingers_after_lift": outcome.fingers_after_lift,
+        "T_world_object_at_hold": T_world_object,
+        "contacts_world": [c.to_dict() for c in outcome.contacts],
+        "contacts_object": [c.in_object_frame(T_world_object).to_dict() for c in outcome.contacts],
+    }
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """One run: what was asked, how it ended, what each stage produced (None for the
+    stages it did not reach) and where its files are.
+
+    status: "running" (written at the start), "ok" or "failed" (`error`, `traceback`);
+    artifacts: files the observers wrote, by name (e.g. "recording").
+    """
+
+    run_id: str
+    request: RunRequest
+    versions: Mapping[str, str]
+    result_path: Path
+    status: str = "running"
+    human: HumanGraspInput | None = None
+    plan: CheckedPlan | None = None
+    execution: Execution | None = None
+    snapshots: Path | None = None
+    score: Score | None = None
+    human_reference_picture: Path | None = None
+    error: str | None = None
+    traceback: str | None = None
+    wall_time: float | None = None
+    events: tuple[dict, ...] = ()
+    artifacts: Mapping[str, str] = field(default_factory=dict)
+
+    @property
+    def outcome(self) -> GraspOutcome | None:
+        return None if self.execution is None else self.execution.outcome
+
+    def to_json(self) -> dict[str, Any]:
+        """result.json: the plain JSON form of the result (graspframe.results.jsonable
+        turns its arrays and paths into JSON values)."""
+        data: dict[str, Any] = {
+            "format": RESULT_FORMAT,
+            "run_id": self.run_id,
+            "status": self.status,
+            "request": asdict(self.request),
+            "reproduce": self.request.command(),
+            "seed": self.request.seed,
+            "versions": dict(self.versions),
+            "scene": {"object_xy": SCENE_OBJECT_XY, "table_height": TABLE_HEIGHT},
+        }
+        if self.human is not None and self.human.classification is not None:
+            data["classification"] = self.human.classification.to_json()
+        if self.plan is not None:
+            data["plan"] = plan_json(self.plan)
+        if self.outcome is not None:
+            data["outcome"] = outcome_json(self.outcome)
+            data["snapshots"] = None if self.snapshots is None else str(self.snapshots)
+        if self.score is not None:
+            data["score"] = self.score.to_json()
+        if self.human_reference_picture is not None:
+            data["human_reference_picture"] = str(self.human_reference_picture)
+        if self.error is not None:
+            data["error"] = self.error
+            data["traceback"] = self.traceback
+        if self.wall_time is not None:
+            data["wall_time"] = self.wall_time
+        data["events"] = list(self.events)
+        data["result_path"] = str(self.result_path)
+        data.update(self.artifacts)
+        return data
+
+
+def plan_json(checked: CheckedPlan) -> dict[str, Any]:
+    """result.json's "plan": the plan, with the variants refused before it."""
+    return {**checked.plan.to_dict(), "variants_refused": list(checked.refused)}
