@@ -355,7 +355,7 @@ def _plan(request, inputs, human: HumanGraspInput, T_world_object_est) -> Checke
     if request.mount == MOUNT_FLOATING:
         return floating_plan(
             human.grasp, human.T_object_palm, T_world_object_est, inputs.hand, inputs.obj,
-            TABLE_HEIGHT,
+            TABLE_HEIGHT, held=inputs.held_test,
         )  # fmt: skip
     return choose_plan(
         human.grasp,
@@ -366,6 +366,7 @@ def _plan(request, inputs, human: HumanGraspInput, T_world_object_est) -> Checke
         inputs.obj,
         TABLE_HEIGHT,
         T_world_base=np.eye(4),
+        held=inputs.held_test,
     )
 
 

@@ -34,6 +34,24 @@ WAYPOINT_SPEED_FRACTION = 0.5
 MAX_WAYPOINT_JUMP = 0.3  # [rad]
 
 
+def track_waypoint(
+    tracking_ik: IkSolver, q_previous: NDArray[np.float64], T_base_palm: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """The arm joints [rad] of the next waypoint of a straight palm line, continuous with
+    the previous waypoint's (IK seeded with them, no restarts); MotionError when a joint
+    would jump more than MAX_WAYPOINT_JUMP (the line passes a singularity or a limit).
+    The executor drives lines with it and the path check checks them with it."""
+    solution = tracking_ik.solve(T_base_palm, q_seed=q_previous)
+    jump = float(np.abs(solution.q_arm - q_previous).max())
+    if jump > MAX_WAYPOINT_JUMP:
+        raise MotionError(
+            f"the straight palm line cannot be followed near {describe_pose(T_base_palm)}: "
+            f"the arm would jump {np.degrees(jump):.0f} deg between waypoints "
+            "(a singularity or a joint limit on the way)"
+        )
+    return solution.q_arm
+
+
 @dataclass(frozen=True)
 class LinearMoveResult:
     """The outcome of a straight palm move.
@@ -110,17 +128,10 @@ class ArmMotion:
 
     def _track(self, T_world_palm: NDArray[np.float64]) -> NDArray[np.float64]:
         """IK for the next waypoint of a line, continuous with the previous one."""
-        T_base_palm = inv_T(self.T_world_base) @ T_world_palm
-        solution = self.tracking_ik.solve(T_base_palm, q_seed=self.q_ik)
-        jump = float(np.abs(solution.q_arm - self.q_ik).max())
-        if jump > MAX_WAYPOINT_JUMP:
-            raise MotionError(
-                f"the straight palm line cannot be followed near {describe_pose(T_base_palm)}: "
-                f"the arm would jump {np.degrees(jump):.0f} deg between waypoints "
-                "(a singularity or a joint limit on the way)"
-            )
-        self.q_ik = solution.q_arm
-        return solution.q_arm
+        self.q_ik = track_waypoint(
+            self.tracking_ik, self.q_ik, inv_T(self.T_world_base) @ T_world_palm
+        )
+        return self.q_ik
 
     def _bounded_velocity(self, qd: NDArray[np.float64]) -> NDArray[np.float64]:
         ratio = float(np.max(np.abs(qd) / self.limits.max_velocity))

@@ -1,18 +1,24 @@
 """Choosing a grasp plan the robot can carry out without touching the table or the object.
 
 For each variant of the grasp (graspframe/strategy/planner.py: `Variant`), in order, the
-path the executor will follow is rebuilt the way the executor builds it: IK of the via
-pose from the arm's home, the jerk-limited transfer between them (ruckig), the straight
-palm lines via -> pre-approach -> goal (IK tracked waypoint by waypoint). Every sampled
-configuration is checked with Pinocchio's collision tools against the table and the
-object where the robot believes it is:
+segments the executor will drive are built by the one builder the executor drives them
+from (segments.py, through executor.planned_path): the jerk-limited transfer from the
+arm's home to the via pose (ruckig, sampled every control period), then the straight
+palm lines (descent, approach, back-off, lift), each at the waypoints the controller
+tracks, one per control cycle, with the tracking IK the controller uses
+(arm_motion.track_waypoint). Every configuration is checked with Pinocchio's collision
+tools against the table and the object where the robot believes it is:
 
 - transfer and descent to the pre-approach pose: no robot link may touch either;
-- approach: no arm link may touch either, no hand link the table (the hand is meant to
-  reach the object).
+- approach and back-off: no arm link may touch either, no hand link the table (the hand
+  is meant to reach the object);
+- lift: no arm link may touch the table (the object rises with the hand).
 
-The hand is in its open preshape along the whole path. The first variant that passes
-wins; when none does, the plan is refused with the reason of each variant tried.
+The hand is in its open preshape along the whole path. The volar strategy's corrections
+(a retreat and an approach to a corrected goal, decided by a contact) cannot be checked
+before the contact happens; they are lines of the same kind along the approach. The
+first variant that passes wins; when none does, the plan is refused with the reason of
+each variant tried.
 
 The variants are first tried with the hand's root link bolted straight onto the flange,
 then through each adapter the hand declares (`HandDescription.mountings`), in order. An
@@ -25,7 +31,8 @@ shapes are checked like the arm's links.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -36,11 +43,14 @@ from graspframe.floating_base import mount_floating
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.objects import ObjectDescription
+from graspframe.motion.arm_motion import CONTROL_PERIOD, track_waypoint
 from graspframe.motion.collision import RobotCollisionChecker, object_obstacle, table_obstacle
 from graspframe.motion.ik import IkSolver
 from graspframe.motion.trajectory import JointLimits, plan_joint_trajectory
 from graspframe.mounting import MountedRobot, mount
 from graspframe.robot_model import summarize_urdf
+from graspframe.strategy.executor import ExecutorParams, planned_path
+from graspframe.strategy.held_test import HeldTest
 from graspframe.strategy.planner import (
     GraspPlan,
     PlannerParams,
@@ -48,11 +58,9 @@ from graspframe.strategy.planner import (
     Variant,
     plan_grasp,
 )
+from graspframe.strategy.segments import PalmLine
 from graspframe.transforms import inv_T
 
-LINE_STEP = 0.005  # [m] between checked configurations on a straight palm line
-TRANSFER_DT = 0.02  # [s] between checked configurations of the transfer
-MAX_WAYPOINT_JUMP = 0.3  # [rad] same bound as the executor's line tracking
 YAWS_DEG = (0.0, 30.0, -30.0, 60.0, -60.0, 90.0, -90.0, 120.0, -120.0, 150.0, -150.0, 180.0)
 RAISES = (0.0, 0.015, 0.03)  # [m] up an upright object's axis, side grasps only
 HIGHER_VIA_RISE = 0.25  # [m]
@@ -86,21 +94,15 @@ def variants(obj: ObjectDescription, side: bool) -> Iterator[Variant]:
                     yield Variant(yaw_deg=yaw, raise_along_axis=raise_along_axis, via_rise=via_rise)
 
 
-def _line(
-    ik: IkSolver, q_start, T_base_start, T_base_end, q_hand, step: float = LINE_STEP
+def _tracked(
+    ik: IkSolver, q_start: NDArray[np.float64], T_base_world, line: PalmLine
 ) -> list[NDArray[np.float64]]:
-    """Arm configurations along a straight palm line, tracked from q_start."""
-    distance = float(np.linalg.norm(T_base_end[:3, 3] - T_base_start[:3, 3]))
-    n = max(1, int(np.ceil(distance / step)))
+    """Arm configurations at a palm line's waypoints, tracked from q_start as the
+    controller tracks them."""
     q = np.asarray(q_start, dtype=float)
     path = []
-    for k in range(1, n + 1):
-        T = T_base_start.copy()
-        T[:3, 3] += (k / n) * (T_base_end[:3, 3] - T_base_start[:3, 3])
-        solution = ik.solve(T, q_seed=q, q_hand=q_hand)
-        if float(np.abs(solution.q_arm - q).max()) > MAX_WAYPOINT_JUMP:
-            raise MotionError("the straight palm line passes a singularity or a joint limit")
-        q = solution.q_arm
+    for T_world_palm in line.waypoints(CONTROL_PERIOD):
+        q = track_waypoint(ik, q, T_base_world @ T_world_palm)
         path.append(q)
     return path
 
@@ -113,22 +115,28 @@ def path_problem(
     obj: ObjectDescription,
     table_height: float,
     ik: IkSolver | None = None,
+    params: ExecutorParams | None = None,
+    held: HeldTest | None = None,
 ) -> str | None:
-    """None when the robot can follow the plan's path without touching the table or the
-    object (see the module docstring), else the reason in words."""
+    """None when the robot can drive the plan's segments (with the executor's `params`
+    and the held test's lift, `held`) without touching the table or the object (see the
+    module docstring), else the reason in words."""
     arm = robot.arm
     q_hand = dict(hand.preshape(plan.preshape).open_q)
     ik = ik or IkSolver(robot)
     tracking = IkSolver(robot, restarts=0)
     T_base_world = inv_T(T_world_base)
-    T_base = {name: T_base_world @ T for name, T in _poses(plan).items()}
+    path = planned_path(plan, params or ExecutorParams(), held or HeldTest())
     q_home = np.asarray(arm.home_q, dtype=float)
+    lines: dict[str, list[NDArray[np.float64]]] = {}
     try:
-        q_via = ik.solve(T_base["via"], q_seed=q_home, q_hand=q_hand).q_arm
-        transfer = plan_joint_trajectory(q_home, q_via, JointLimits.from_arm(arm), TRANSFER_DT).q
-        descent = _line(tracking, q_via, T_base["via"], T_base["pre"], q_hand)
-        q_pre = descent[-1] if descent else q_via
-        approach = _line(tracking, q_pre, T_base["pre"], T_base["goal"], q_hand)
+        q_via = ik.solve(T_base_world @ path.T_world_palm_via, q_seed=q_home, q_hand=q_hand).q_arm
+        limits = JointLimits.from_arm(arm)
+        transfer = plan_joint_trajectory(q_home, q_via, limits, CONTROL_PERIOD).q
+        q = q_via
+        for segment in path.lines:
+            lines[segment.name] = _tracked(tracking, q, T_base_world, segment)
+            q = lines[segment.name][-1] if lines[segment.name] else q
     except MotionError as exc:
         return f"unreachable: {exc}"
 
@@ -147,25 +155,22 @@ def path_problem(
     def configurations(path):
         return [{**dict(zip(arm.joint_names, q, strict=True)), **full_hand_q} for q in path]
 
-    checks = (
-        ("the transfer from home", transfer, None, None),
-        ("the descent to the pre-approach pose", descent, None, None),
-        ("the approach (arm links)", approach, arm_links, None),
-        ("the approach (hand on the table)", approach, hand_links, ("table",)),
-    )
-    for label, path, links, obstacles in checks:
-        hit = checker.first_collision_on_path(configurations(path), links, obstacles)
+    checks: list[
+        tuple[str, Sequence[NDArray[np.float64]], AbstractSet[str] | None, tuple | None]
+    ] = [
+        ("the transfer from home", list(transfer), None, None),
+        ("the descent to the pre-approach pose", lines.get("descent", []), None, None),
+        ("the approach (arm links)", lines["approach"], arm_links, None),
+        ("the approach (hand on the table)", lines["approach"], hand_links, ("table",)),
+        ("the back-off (arm links)", lines.get("back-off", []), arm_links, None),
+        ("the back-off (hand on the table)", lines.get("back-off", []), hand_links, ("table",)),
+        ("the lift (arm links on the table)", lines.get("lift", []), arm_links, ("table",)),
+    ]
+    for label, configs, links, obstacles in checks:
+        hit = checker.first_collision_on_path(configurations(configs), links, obstacles)
         if hit is not None:
             return f"{label}: {hit[1].describe()}"
     return None
-
-
-def _poses(plan: GraspPlan) -> dict[str, NDArray[np.float64]]:
-    return {
-        "via": plan.T_world_palm_via,
-        "pre": plan.T_world_palm_pre,
-        "goal": plan.T_world_palm_goal,
-    }
 
 
 def choose_plan(
@@ -178,10 +183,13 @@ def choose_plan(
     table_height: float,
     T_world_base: NDArray[np.float64],
     params: PlannerParams | None = None,
+    executor_params: ExecutorParams | None = None,
+    held: HeldTest | None = None,
 ) -> CheckedPlan:
-    """The first variant of the grasp whose path is collision-free on the arm standing
-    at T_world_base, the hand straight on the flange, else through each of its mountings
-    in turn; PlanningError listing every variant's reason when none is."""
+    """The first variant of the grasp whose path (driven with `executor_params`, lifted
+    by `held`) is collision-free on the arm standing at T_world_base, the hand straight
+    on the flange, else through each of its mountings in turn; PlanningError listing
+    every variant's reason when none is."""
     refused: list[str] = []
     first = plan_grasp(grasp, T_object_human_palm, T_world_object_est, hand, obj, table_height)
     for mounting in (None, *hand.mountings):
@@ -199,7 +207,9 @@ def choose_plan(
                 params,
                 variant,
             )
-            problem = path_problem(plan, robot, T_world_base, hand, obj, table_height, ik)
+            problem = path_problem(
+                plan, robot, T_world_base, hand, obj, table_height, ik, executor_params, held
+            )
             if problem is None:
                 T_world_base = np.asarray(T_world_base, dtype=float)
                 return CheckedPlan(plan, robot, T_world_base, tuple(refused))
@@ -218,14 +228,18 @@ def floating_plan(
     obj: ObjectDescription,
     table_height: float,
     params: PlannerParams | None = None,
+    executor_params: ExecutorParams | None = None,
+    held: HeldTest | None = None,
 ) -> CheckedPlan:
     """The plan for the hand alone on the floating base, whose home is the via pose (no
-    transfer); its descent and approach are checked like an arm's."""
+    transfer); its segments are checked like an arm's."""
     plan = plan_grasp(
         grasp, T_object_human_palm, T_world_object_est, hand, obj, table_height, params
     )
     robot, T_world_base = mount_floating(hand, plan.T_world_palm_via)
-    problem = path_problem(plan, robot, T_world_base, hand, obj, table_height)
+    problem = path_problem(
+        plan, robot, T_world_base, hand, obj, table_height, None, executor_params, held
+    )
     if problem is not None:
         raise PlanningError(f"no collision-free path for the free {hand.name} hand: {problem}")
     return CheckedPlan(plan, robot, T_world_base)

@@ -27,7 +27,9 @@ from graspframe.hal.drivers import World
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.strategy.execution import Emit, Grip, snapshot
+from graspframe.strategy.held_test import HeldTest
 from graspframe.strategy.planner import GraspPlan
+from graspframe.strategy.segments import PalmPath, palm_path
 from graspframe.transforms import inv_T
 
 ALPHA_START = 0.5  # [-] first weight of the contact point in the goal correction
@@ -52,7 +54,6 @@ CLOSE_MIN_TIME = 0.2  # [s] the fingers move at least this long before they may 
 CLOSE_CHECK_PERIOD = 0.05  # [s] how often the closing fingers' speed is measured
 SETTLED_SPEED = 0.05  # [rad/s] the hand counts as closed when no joint moves faster
 HOLD_TIME = 0.5  # [s]
-MIN_DESCENT = 1e-6  # [m] a shorter descent from the via to the pre-approach pose is skipped
 
 
 @dataclass(frozen=True)
@@ -70,6 +71,20 @@ class ExecutorParams:
     close_min_time: float = CLOSE_MIN_TIME
     settled_speed: float = SETTLED_SPEED
     hold_time: float = HOLD_TIME
+
+
+def planned_path(plan: GraspPlan, params: ExecutorParams, held: HeldTest | None = None) -> PalmPath:
+    """The segments the strategy drives for `plan` (segments.py), with the held test's
+    lift when `held` is given: what the executor drives and the path check checks."""
+    approach_speed = params.guarded_approach_speed if plan.volar else params.approach_speed
+    return palm_path(
+        plan,
+        params.descent_speed,
+        approach_speed,
+        params.approach_speed,
+        None if held is None else held.lift_height,
+        None if held is None else held.lift_speed,
+    )
 
 
 def _moved(T: NDArray[np.float64], shift: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -104,13 +119,16 @@ class _Strategy:
     p: ExecutorParams
     emit: Emit
 
+    def __post_init__(self) -> None:
+        self.path = planned_path(self.plan, self.p)
+
     def run(self) -> Grip:
         preshape = self.hand.preshape(self.plan.preshape)
         self._move_to_pre_approach(preshape.open_q)
         if self.plan.volar:
             corrections, palm_contact, goals = self._approach_volar()
-            if palm_contact and self.plan.volar_gap > 0:
-                self._back_off(self.plan.volar_gap)
+            if palm_contact and self.path.back_off is not None:
+                self._back_off()
         else:
             corrections, goals = 0, [self.plan.T_world_palm_goal[:3, 3].tolist()]
             palm_contact = self._approach_non_volar()
@@ -125,14 +143,11 @@ class _Strategy:
         plan, motion = self.plan, self.motion
         self.world.hand.set_joint_targets(open_q)
         self.emit(events.EXECUTE_PRESHAPE, preshape=plan.preshape)
-        duration = motion.move_palm_to(plan.T_world_palm_via)
-        descent = plan.T_world_palm_via[:3, 3] - plan.T_world_palm_pre[:3, 3]
-        if np.linalg.norm(descent) > MIN_DESCENT:
+        duration = motion.move_palm_to(self.path.T_world_palm_via)
+        descent = self.path.descent
+        if descent is not None:
             duration += motion.move_palm_linear(
-                -descent,
-                float(np.linalg.norm(descent)),
-                self.p.descent_speed,
-                stop_on_contact=False,
+                descent.direction, descent.distance, descent.speed, stop_on_contact=False
             ).duration
         self.emit(
             events.EXECUTE_PRE_APPROACH,
@@ -142,11 +157,9 @@ class _Strategy:
 
     def _approach_non_volar(self) -> bool:
         """Straight to the standoff goal, no feedback; returns whether the palm touches."""
+        approach = self.path.approach
         result = self.motion.move_palm_linear(
-            self.plan.a_world,
-            self.plan.pre_approach_distance,
-            self.p.approach_speed,
-            stop_on_contact=False,
+            approach.direction, approach.distance, approach.speed, stop_on_contact=False
         )
         self.emit(
             events.EXECUTE_APPROACH, travel=result.travel, stopped=False, cycles=result.cycles
@@ -159,15 +172,14 @@ class _Strategy:
 
         Returns (corrections, palm contact reached, goals tried)."""
         plan, motion, p, emit = self.plan, self.motion, self.p, self.emit
-        a = plan.a_world
-        d_start = plan.pre_approach_distance  # from the approach's start to its goal
+        approach = self.path.approach
+        a = approach.direction
+        d_start = approach.distance  # from the approach's start to its goal
         T_goal = plan.T_world_palm_goal.copy()
         goals = [T_goal[:3, 3].tolist()]
         alpha, corrections = p.alpha_start, 0
         while True:
-            result = motion.move_palm_linear(
-                a, d_start + p.approach_overshoot, p.guarded_approach_speed
-            )
+            result = motion.move_palm_linear(a, d_start + p.approach_overshoot, approach.speed)
             emit(
                 events.EXECUTE_APPROACH,
                 travel=result.travel,
@@ -238,13 +250,15 @@ class _Strategy:
             self.motion.move_palm_to(_moved(T_world_palm_goal, -d_start * a))
         return d_start
 
-    def _back_off(self, gap: float) -> None:
-        """Back the palm off the object it found by `gap` [m] along the approach, so the
-        object sits where the preshape's fingers close on it."""
+    def _back_off(self) -> None:
+        """Back the palm off the object it found by the plan's volar gap along the
+        approach, so the object sits where the preshape's fingers close on it."""
+        back_off = self.path.back_off
+        assert back_off is not None  # only plans with a volar gap back off
         result = self.motion.move_palm_linear(
-            -self.plan.a_world, gap, self.p.approach_speed, stop_on_contact=False
+            back_off.direction, back_off.distance, back_off.speed, stop_on_contact=False
         )
-        self.emit(events.EXECUTE_BACK_OFF, gap=gap, travel=-result.travel)
+        self.emit(events.EXECUTE_BACK_OFF, gap=back_off.distance, travel=-result.travel)
 
     def _close(self, closed_q) -> None:
         world = self.world

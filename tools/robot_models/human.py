@@ -141,6 +141,17 @@ EFFORT_LIMITS = {  # [N m] roughly tendon force x moment arm
 HAND_MASS_KG = 0.45  # assumption: ~0.6 % of a 75 kg adult's body mass, at 190 mm
 
 
+def _sum_in_order(values) -> float:
+    """The floats added left to right. Python 3.12 made the built-in `sum` of floats a
+    compensated sum: its last bits differ from 3.11's, and the generated inertias (noise
+    of order 1e-38 in the products of inertia) with them; the generator must write the
+    same file on every Python."""
+    total = 0.0
+    for value in values:
+        total += value
+    return total
+
+
 def _fmt_round(values, ndigits: int = 9) -> tuple[float, ...]:
     """Round away float noise so the output is the same on every machine."""
     return tuple(round(float(v), ndigits) + 0.0 for v in values)
@@ -278,11 +289,11 @@ def build(hand_length: float = HAND_LENGTH_M) -> UrdfBuilder:
         Sphere(thenar_r, _fmt_round(a * s1)),
     ]
 
-    total_volume = sum(sh.volume for shapes in shapes_by_link.values() for sh in shapes)
+    total_volume = _sum_in_order(sh.volume for shapes in shapes_by_link.values() for sh in shapes)
     density = HAND_MASS_KG * s**3 / total_volume
 
     def mass(link):
-        return density * sum(sh.volume for sh in shapes_by_link[link])
+        return density * _sum_in_order(sh.volume for sh in shapes_by_link[link])
 
     # ---- zero-pose frames -----------------------------------------------------------
     frames = _Frames()
