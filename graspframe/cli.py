@@ -272,7 +272,7 @@ def classify(
     ] = DEFAULT_CLASSIFIER,
 ) -> None:
     """Classify the human grasp and hand orientation in one image."""
-    from graspframe.vision.commands import classify_command
+    from graspframe.commands.vision import classify_command
 
     raise typer.Exit(classify_command(image, k, as_json, classifier))
 
@@ -480,7 +480,7 @@ def db_build(
     ] = None,
 ) -> None:
     """(Re)build the synthetic view database of the hog_knn classifier."""
-    from graspframe.vision.commands import db_build_command
+    from graspframe.commands.vision import db_build_command
 
     raise typer.Exit(db_build_command(views_per_grasp, size, workers, seed, out))
 

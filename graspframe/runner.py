@@ -169,7 +169,7 @@ def resolve(request: RunRequest, registry: Registry) -> _Inputs:
     backend_cls = registry.get_backend(request.backend)
     scene = image = None
     if request.grasp is None:
-        from graspframe.vision.commands import read_image
+        from graspframe.vision.images import read_image
 
         if request.image and not request.scene:
             raise InputError("--image needs --scene (the camera and object poses of the image)")
@@ -287,7 +287,7 @@ def _human_grasp(request, inputs, registry, recorder, result, progress):
 
 
 def _hand_mask(image):
-    from graspframe.vision.segmentation import hand_mask
+    from graspframe_hog_knn.segmentation import hand_mask
 
     return hand_mask(image)
 

@@ -18,10 +18,11 @@ LAYERS = {
         "urdf_model", "specs",
     ),
     "algorithms": (
-        "motion", "metrics", "strategy", "vision", "testing", "checks", "pictures", "snapshots",
+        "motion", "metrics", "strategy", "vision", "testing", "checks", "render", "pictures",
+        "snapshots",
     ),
     "runs": ("runner", "experiments"),
-    "cli": ("cli",),
+    "cli": ("cli", "commands"),
 }  # fmt: skip
 RANK = {part: rank for rank, parts in enumerate(LAYERS.values()) for part in parts}
 FORBIDDEN = ("sapien", "rerun")  # plugins only
@@ -70,3 +71,4 @@ def test_the_core_package_never_imports_the_simulator_or_the_recorder():
         if name.split(".")[0] in FORBIDDEN
     ]
     assert not found, "\n".join(found)
+

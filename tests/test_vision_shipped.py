@@ -8,13 +8,14 @@ from importlib.resources import files
 
 import numpy as np
 import pytest
+from graspframe_hog_knn.classifier import HogKnnClassifier
+from graspframe_hog_knn.database import FORMAT, load_database, read_metadata, shipped_database_path
+from graspframe_hog_knn.rotations import angle_deg
 
+from graspframe.commands.vision import classify_command
 from graspframe.grasps import HumanGrasp
 from graspframe.registry import default_registry
-from graspframe.vision.classifier import HogKnnClassifier
-from graspframe.vision.commands import classify_command, read_image
-from graspframe.vision.database import FORMAT, load_database, read_metadata, shipped_database_path
-from graspframe.vision.rotations import angle_deg
+from graspframe.vision.images import read_image
 
 MAX_SHIPPED_MB = 5.0
 DEMO_MAX_ERROR_DEG = 20.0  # measured 2.5 deg
