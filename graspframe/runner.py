@@ -282,14 +282,8 @@ def _human_grasp(request, inputs, registry, recorder, result, progress):
     }
     result["classification"] = classification
     recorder.emit(CLASSIFY_DONE, **classification)
-    recorder.emit(CLASSIFY_IMAGES, image_bgr=inputs.image, mask=_hand_mask(inputs.image))
+    recorder.emit(CLASSIFY_IMAGES, image_bgr=inputs.image, pictures=estimate.pictures)
     return grasp, T_object_palm, scene.T_world_object
-
-
-def _hand_mask(image):
-    from graspframe_hog_knn.segmentation import hand_mask
-
-    return hand_mask(image)
 
 
 def _plan(request, inputs, grasp, T_object_human_palm, T_world_object_est) -> CheckedPlan:

@@ -60,7 +60,7 @@ def test_held_out_renders(classifier):
         except UncertainGraspError:
             uncertain += 1  # refused: counted wrong below
             continue
-        assert not estimate_problems(estimate)
+        assert not estimate_problems(estimate, view.image.shape)
         correct += estimate.grasp == view.grasp
         errors.append(angle_deg(estimate.R_camera_palm, view.T_camera_palm[:3, :3]))
     assert len(errors) + uncertain >= 0.9 * len(views)  # a hand found in nearly every view

@@ -140,3 +140,18 @@ def test_real_hands_are_segmented_not_refused():
         image = read_image(path)
         crop = segment_hand(image)
         assert crop.area < 0.9 * image.shape[0] * image.shape[1], path.name
+
+
+def test_a_left_hand_mask_is_shown_in_the_image_pixels():
+    """The crop of a left hand is taken from the mirrored image; the mask the classifier
+    shows is flipped back onto the image it was given."""
+    from graspframe_hog_knn.classifier import pictures
+    from graspframe_hog_knn.segmentation import crop_hand_mirrored
+
+    image = read_image(DEMO)
+    mask = hand_mask(image)
+    crop = crop_hand_mirrored(image, mask)
+    assert crop.mirrored and not np.array_equal(crop.mask, mask)
+    shown = {picture.name: picture.pixels for picture in pictures(crop)}
+    assert np.array_equal(shown["mask"], mask)
+    assert np.array_equal(shown["crop"], crop.patch)

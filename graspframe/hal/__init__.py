@@ -1,6 +1,6 @@
 """The hardware abstraction layer: descriptions (what a robot is) and drivers (how to move it)."""
 
-from graspframe.hal.classifier import Classifier, HumanGraspEstimate, Neighbour
+from graspframe.hal.classifier import Classifier, ClassifierPicture, HumanGraspEstimate, Neighbour
 from graspframe.hal.descriptions import (
     AdapterShape,
     ArmDescription,
@@ -21,6 +21,7 @@ __all__ = [
     "ArmDriver",
     "Backend",
     "Classifier",
+    "ClassifierPicture",
     "Coupling",
     "DesignObject",
     "DriveGains",

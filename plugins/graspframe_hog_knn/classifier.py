@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError, InputError
-from graspframe.hal.classifier import Classifier, HumanGraspEstimate, Neighbour
+from graspframe.hal.classifier import Classifier, ClassifierPicture, HumanGraspEstimate, Neighbour
 from graspframe.transforms import R_from_quat_xyzw
 from graspframe.vision.common import unmirror, weighted_vote
 from graspframe.vision.images import check_image
@@ -28,7 +28,7 @@ from graspframe_hog_knn.database import ViewDatabase, load_database
 from graspframe_hog_knn.features import hog_descriptor
 from graspframe_hog_knn.index import NeighbourIndex
 from graspframe_hog_knn.rotations import average_rotations
-from graspframe_hog_knn.segmentation import segment_hand
+from graspframe_hog_knn.segmentation import HandCrop, segment_hand
 from graspframe_hog_knn.views import GRASPS
 
 DEFAULT_K = 8
@@ -50,6 +50,17 @@ class Timings:
     segmentation: float
     features: float
     search: float
+
+
+def pictures(crop: HandCrop) -> tuple[ClassifierPicture, ...]:
+    """What this classifier shows of its work: "mask", the hand mask it cropped around
+    (in the image's own pixels, flipped back for a left hand), and "crop", the normalised
+    grey patch it described (as described: mirrored for a left hand)."""
+    mask = np.ascontiguousarray(crop.mask[:, ::-1]) if crop.mirrored else crop.mask
+    return (
+        ClassifierPicture("mask", "mask", mask),
+        ClassifierPicture("crop", "image", crop.patch),
+    )
 
 
 class HogKnnClassifier(Classifier):
@@ -151,6 +162,7 @@ class HogKnnClassifier(Classifier):
             R_camera_palm=R_camera_palm,
             p_camera_palm=self._palm_position(db, ids[same], weights[same], crop, shape),
             neighbours=neighbours,
+            pictures=pictures(crop),
         )
 
     def _palm_position(self, db, ids, weights, crop, shape) -> NDArray[np.float64]:

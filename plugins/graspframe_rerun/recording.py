@@ -18,7 +18,8 @@ Entity layout (all in the world frame, z up, metres):
     world/corrections                        goal corrections of the volar strategy
     vf/robot, vf/human                       virtual fingers, object frame, side by side
     plots/joints/<joint>, plots/palm_sensor, plots/distance_to_goal   scalars
-    vision/input, vision/mask                classification image and hand mask
+    vision/input, vision/<picture>           classification image and the classifier's
+                                             pictures of its work (hog_knn: mask, crop)
     log                                      the run's events as text
 Timeline "sim_time" [s]: simulation time of each sample. The static geometry (each
 link's meshes in the link frame, the table, the object) is logged once; the per-cycle
@@ -304,11 +305,8 @@ class RunRecording:
 
     def _on_classify_images(self, data: dict) -> None:
         self._log("vision/input", rr.Image(np.asarray(data["image_bgr"])[..., ::-1]), static=True)
-        self._log(
-            "vision/mask",
-            rr.SegmentationImage(np.asarray(data["mask"]).astype(np.uint8)),
-            static=True,
-        )
+        for picture in data["pictures"]:
+            self._log(f"vision/{picture.name}", _picture_archetype(picture), static=True)
 
     def finish(self, result: dict) -> None:
         """Send the cycles still buffered, log how the run ended and close the file."""
@@ -316,6 +314,15 @@ class RunRecording:
         self.text(f"run {result.get('status')}: {result.get('error', '')}")
         self.stream.flush()
         self.stream.disconnect()
+
+
+def _picture_archetype(picture) -> rr.SegmentationImage | rr.Image:
+    """A classifier's picture (graspframe.hal.ClassifierPicture): a mask as a
+    segmentation image, a grey image as it is, a BGR image as RGB."""
+    pixels = np.asarray(picture.pixels)
+    if picture.kind == "mask":
+        return rr.SegmentationImage(pixels.astype(np.uint8))
+    return rr.Image(pixels[..., ::-1] if pixels.ndim == 3 else pixels)
 
 
 def _short(value) -> str:
