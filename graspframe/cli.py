@@ -426,20 +426,12 @@ def evaluate(
 
 @app.command()
 def review(
-    run: Annotated[Path, typer.Argument(help="A run folder or its recording.rrd.")],
+    run: Annotated[Path, typer.Argument(help="A run folder, or its recording.")],
 ) -> None:
-    """Open a recorded run in the rerun viewer."""
-    import shutil
-    import subprocess
+    """Open a recorded run in the viewer of the plugin that recorded it."""
+    from graspframe.commands.review import review_command
 
-    path = run / "recording.rrd" if run.is_dir() else run
-    if not path.is_file():
-        raise InputError(f"no recording at {path}; runs record to <run folder>/recording.rrd")
-    beside_python = Path(sys.executable).parent / "rerun"
-    viewer = shutil.which("rerun") or (str(beside_python) if beside_python.is_file() else None)
-    if viewer is None:
-        raise InputError("the rerun viewer is not installed (it ships with rerun-sdk)")
-    raise typer.Exit(subprocess.call([viewer, str(path)]))
+    raise typer.Exit(review_command(run))
 
 
 @app.command("check-hand")

@@ -63,6 +63,8 @@ ARM_COLOUR = (235, 120, 20)
 COLLISION_OVERLAY_ALPHA = 70  # [0, 255] collision shapes over a link's visual meshes
 HUMAN_VF_OFFSET = np.array([0.0, 0.25, 0.0])  # [m] human virtual fingers beside the robot's
 FORCE_ARROW_SCALE = 0.005  # [m/N]
+RECORDING_SUFFIX = ".rrd"
+RECORDING_FILE = f"recording{RECORDING_SUFFIX}"  # in the run folder
 
 
 def finger_colour(name: str) -> tuple[int, int, int]:
@@ -128,7 +130,7 @@ class RunRecording:
             raise GraspframeError(f"run {run.run_id}: recording needs its hand and object")
         self._hand = run.hand
         self._object = run.object
-        self.path = Path(run.out_dir) / "recording.rrd"
+        self.path = Path(run.out_dir) / RECORDING_FILE
         self.stream = rr.RecordingStream("graspframe", recording_id=run.run_id)
         self.stream.save(str(self.path))
         self._cycles: MotionCycles | None = None  # from world.built on
