@@ -62,3 +62,19 @@ def test_run_refuses_a_grasp_and_an_image_together(capsys, tmp_path):
 def test_verbose_shows_the_traceback(capsys):
     assert main(["--verbose", "classify", "/nonexistent.png"]) == 1
     assert "Traceback" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("command", "units"),
+    [
+        (["evaluate"], ["error of experiment B [mm]", "wall-time limit [s]", "sizes [%] besides"]),
+        (["run"], ["Error 'DX,DY' [mm] added"]),
+        (["db", "build"], ["image side [px]"]),
+    ],
+)
+def test_help_shows_the_units_in_brackets(command, units, capsys, monkeypatch):
+    monkeypatch.setenv("COLUMNS", "200")  # one line per option
+    assert main([*command, "--help"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    for unit in units:
+        assert unit in out, unit
