@@ -22,18 +22,18 @@ import time
 from pathlib import Path
 
 import numpy as np
-
-from graspframe.defaults import DEFAULT_CLASSIFIER
-from graspframe.vision.classifier import DEFAULT_K, HogKnnClassifier, UncertainGraspError
-from graspframe.vision.database import (
+from graspframe_hog_knn.classifier import DEFAULT_K, HogKnnClassifier, UncertainGraspError
+from graspframe_hog_knn.database import (
     build_database,
     iter_views,
     load_database,
     shipped_database_path,
 )
-from graspframe.vision.rotations import angle_deg
-from graspframe.vision.segmentation import NoHandFoundError
-from graspframe.vision.views import GRASPS, HELD_OUT
+from graspframe_hog_knn.rotations import angle_deg
+from graspframe_hog_knn.views import GRASPS, HELD_OUT
+
+from graspframe.defaults import DEFAULT_CLASSIFIER
+from graspframe.vision.common import NoHandFoundError
 
 TEST_SEED = 9_000_001  # never used for a database build
 
@@ -78,7 +78,7 @@ def evaluate(db, views, k: int, index_kind: str = "hnsw") -> dict:
 
 def search_comparison(db, queries: np.ndarray, k: int) -> dict:
     """HNSW against exact search over the same database vectors: time and recall@k."""
-    from graspframe.vision.index import NeighbourIndex
+    from graspframe_hog_knn.index import NeighbourIndex
 
     out = {}
     for kind in ("flat", "hnsw"):
@@ -153,8 +153,8 @@ def main() -> None:
         f"search {search:.3f}, total {seg + feat + search:.2f}"
     )
 
-    from graspframe.vision.features import hog_descriptor
-    from graspframe.vision.segmentation import segment_hand
+    from graspframe_hog_knn.features import hog_descriptor
+    from graspframe_hog_knn.segmentation import segment_hand
 
     queries = []
     for view in views:

@@ -23,12 +23,13 @@ import sys
 import time
 from pathlib import Path
 
+from graspframe_hog_knn.classifier import DEFAULT_K
+from graspframe_hog_knn.views import GRASPS
+
 from graspframe.defaults import DEFAULT_CLASSIFIER
 from graspframe.errors import GraspframeError
 from graspframe.registry import get_classifier
-from graspframe.vision.classifier import DEFAULT_K
-from graspframe.vision.commands import read_image
-from graspframe.vision.views import GRASPS
+from graspframe.vision.images import read_image
 
 OTHER = "other"
 REFUSED = "refused"

@@ -15,13 +15,13 @@ import tempfile
 import time
 from pathlib import Path
 
-from graspframe.vision.database import (
+from graspframe_hog_knn.database import (
     DEFAULT_SEED,
     DEFAULT_SIZE,
     DEFAULT_VIEWS_PER_GRASP,
     build_database,
 )
-from graspframe.vision.views import GRASPS
+from graspframe_hog_knn.views import GRASPS
 
 
 def build_rate(views_per_grasp: int, workers: int) -> tuple[float, float]:

@@ -1,4 +1,5 @@
-"""The `graspframe` command line.
+"""The `graspframe` command line: the typer app, every command's options and help, and
+the small commands; the bodies of the larger ones are in graspframe/commands/.
 
 Every error graspframe raises on purpose is printed as one line and exits non-zero;
 `--verbose` shows the traceback as well.
@@ -11,7 +12,7 @@ import logging
 import sys
 import traceback
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import Annotated
 
 import typer
 from rich.console import Console
@@ -26,13 +27,9 @@ from graspframe.defaults import (
     DISTURBANCE_FRACTION,
     LIFT_HEIGHT,
     MOUNT_ARM,
-    MOUNTS,
 )
 from graspframe.errors import GraspframeError, InputError
 from graspframe.experiments.trials import TRIAL_TIME_LIMIT
-
-if TYPE_CHECKING:  # the run's types import the whole pipeline: only for annotations here
-    from graspframe.run_result import Quality, RunResult
 
 app = typer.Typer(
     name="graspframe",
@@ -157,7 +154,7 @@ def run(
         str | None, typer.Option("--object", help="Object name (default: the grasp's own).")
     ] = None,
     object_error_mm: Annotated[
-        str, typer.Option(help="Error 'DX,DY' [mm] added to the object position the robot uses.")
+        str, typer.Option(help="Error 'DX,DY' \\[mm] added to the object position the robot uses.")
     ] = "0,0",
     seed: Annotated[int, typer.Option(help="Seed of everything random in the run.")] = 0,
     backend: Annotated[str, typer.Option(help="Backend plugin name.")] = DEFAULT_BACKEND,
@@ -185,6 +182,7 @@ def run(
     """Image of a human grasp -> robot grasp on the arm in simulation, scored.
 
     With no --grasp and no --image, the bundled demo image is classified."""
+    from graspframe.commands.run_summary import print_run_summary
     from graspframe.grasps import HumanGrasp
     from graspframe.runner import RunRequest, run_grasp
 
@@ -209,72 +207,7 @@ def run(
         disturbance_fraction=disturbance_fraction,
     )
     result = run_grasp(request, progress=lambda stage: err_console.print(f"[dim]· {stage}[/dim]"))
-    _print_run_summary(result)
-
-
-def _tested(value: bool | None) -> str:
-    return "not tested" if value is None else str(value)
-
-
-def _print_run_summary(result: RunResult) -> None:
-    """The run in a few lines: the human grasp, the plan, the grasp and its held test,
-    the score, where the files are."""
-    classification = result.human.classification if result.human else None
-    if classification is not None:
-        console.print(
-            f"image: human {classification.grasp.value} "
-            f"(confidence {classification.confidence:.2f}, {classification.classifier})"
-        )
-    if result.plan is not None:
-        plan = result.plan.plan
-        console.print(
-            f"[bold]{plan.hand}[/bold]: human {plan.grasp.value} -> preshape {plan.preshape}, "
-            f"{plan.approach} approach, {'volar' if plan.volar else 'non-volar'}"
-        )
-    outcome = result.outcome
-    if outcome is not None:
-        console.print(
-            f"corrections: {outcome.corrections}   palm contact: {outcome.palm_contact}   "
-            f"held after a {100 * outcome.lift_height:.0f} cm lift: {outcome.held_after_lift} "
-            f"(object rose {1000 * outcome.object_rise:.0f} mm)   "
-            f"held under disturbance: {_tested(outcome.held_under_disturbance)}"
-        )
-        per_finger: dict[str, int] = {}
-        for contact in outcome.contacts:
-            per_finger[contact.real_finger] = per_finger.get(contact.real_finger, 0) + 1
-        listing = ", ".join(f"{f} {n}" for f, n in sorted(per_finger.items())) or "none"
-        console.print(f"contacts per real finger: {listing}")
-        if outcome.failure_reason:
-            console.print(f"[yellow]grasp failed:[/yellow] {outcome.failure_reason}")
-    score = result.score
-    if score is not None:
-        if score.comparison is not None:
-            comparison = score.comparison
-            console.print(
-                f"virtual fingers robot {comparison.robot_count} / human "
-                f"{comparison.human_count}: position error {comparison.position_err_mm:.1f} mm, "
-                f"orientation error {comparison.orientation_err_deg:.1f} deg"
-            )
-        elif score.error is not None:
-            console.print(f"virtual fingers: not scored ({score.error})")
-        if score.human_held is not None and not score.human_held.held:
-            console.print(
-                f"[yellow]the human reference does not hold:[/yellow] "
-                f"{score.human_held.failure} (scored against it all the same)"
-            )
-        console.print(
-            "grasp quality (Ferrari-Canny epsilon, L1): "
-            f"robot {_quality_text(score.quality_robot)}, "
-            f"human {_quality_text(score.quality_human)}"
-        )
-    console.print(f"result: {result.result_path}")
-    if result.snapshots is not None:
-        console.print(f"pictures: {result.snapshots}")
-    if result.human_reference_picture is not None:
-        console.print(f"human reference: {result.human_reference_picture}")
-    recording = result.artifacts.get("recording")
-    if recording:
-        console.print(f"recording: {recording}  (graspframe review {recording})")
+    print_run_summary(result, console)
 
 
 @app.command()
@@ -288,41 +221,9 @@ def classify(
     ] = DEFAULT_CLASSIFIER,
 ) -> None:
     """Classify the human grasp and hand orientation in one image."""
-    from graspframe.vision.commands import classify_command
+    from graspframe.commands.vision import classify_command
 
     raise typer.Exit(classify_command(image, k, as_json, classifier))
-
-
-def _names_option(text: str, kind: str, known: list[str]) -> tuple[str, ...]:
-    """A comma-separated list of names (or "all"), each checked against the known ones;
-    for hands, a spec file path (*.toml) is loaded and checked instead."""
-    from graspframe.specs import is_spec_path
-
-    if text.strip() == "all":
-        return tuple(known)
-    names = tuple(n.strip() for n in text.split(",") if n.strip())
-    for name in names:
-        if kind == "hand" and is_spec_path(name):
-            from graspframe.registry import default_registry
-
-            default_registry().get_hand(name)  # a spec that does not load fails here
-        elif name not in known:
-            from graspframe.errors import UnknownNameError
-
-            raise UnknownNameError(kind, name, known)
-    if not names:
-        raise InputError(f"no {kind} given; pass a comma-separated list or 'all'")
-    return names
-
-
-def _sizes_option(text: str) -> tuple[int, ...]:
-    """ "75,125" -> (75, 125): object sizes in percent."""
-    try:
-        return tuple(int(v) for v in text.split(",") if v.strip())
-    except ValueError:
-        raise InputError(
-            f"--sizes must be whole percentages separated by commas, e.g. '75,125'; got {text!r}"
-        ) from None
 
 
 @app.command()
@@ -338,7 +239,7 @@ def evaluate(
         str, typer.Option(help="Arm of the arm mount: a registered name or a spec file (*.toml).")
     ] = DEFAULT_ARM,
     rho_mm: Annotated[
-        float, typer.Option(help="Object position error of experiment B [mm].")
+        float, typer.Option(help="Object position error of experiment B \\[mm].")
     ] = 50.0,
     directions: Annotated[
         int | None,
@@ -356,7 +257,7 @@ def evaluate(
     ),
     seed: Annotated[int, typer.Option(help="Seed of every trial.")] = 0,
     time_limit: Annotated[
-        float, typer.Option(help="Per-trial wall-time limit [s].")
+        float, typer.Option(help="Per-trial wall-time limit \\[s].")
     ] = TRIAL_TIME_LIMIT,
     record: Annotated[
         bool, typer.Option("--record/--no-record", help="Record every trial for rerun.")
@@ -367,7 +268,7 @@ def evaluate(
     sizes: Annotated[
         str,
         typer.Option(
-            help="Object sizes [%] besides 100 to repeat experiment A at, e.g. '75,125' "
+            help="Object sizes \\[%] besides 100 to repeat experiment A at, e.g. '75,125' "
             "('' for none)."
         ),
     ] = "",
@@ -381,81 +282,36 @@ def evaluate(
     ] = "",
 ) -> None:
     """Experiments A (perfect perception) and B (object position error) for the hands."""
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
+    from graspframe.commands.evaluate import run_evaluation, sweep_config
 
-    from graspframe.experiments.summary import plot_summary, summarize, write_tables
-    from graspframe.experiments.sweep import SweepConfig, plan_trials, run_sweep
-    from graspframe.grasps import HumanGrasp
-    from graspframe.registry import default_registry
-
-    registry = default_registry()
-    registry.get_arm(arm)  # an unknown arm or a spec that does not load fails before any trial
-    object_names = _names_option(objects, "object", registry.names("object")) if objects else ()
-    if object_names and grasps is not None:
-        raise InputError(
-            "--objects runs each object's documented grasps; leave out --grasps "
-            f"(got --grasps {grasps})"
-        )
-    all_grasps = [g.value for g in HumanGrasp]
-    grasp_names = () if object_names else _names_option(grasps or "all", "grasp", all_grasps)
-    config = SweepConfig(
-        hands=_names_option(hands, "hand", registry.names("hand")),
-        grasps=grasp_names,
-        out_dir=out,
-        rho=rho_mm / 1000.0,
-        directions=(0 if object_names else 6) if directions is None else directions,
+    config = sweep_config(
+        hands=hands,
+        grasps=grasps,
+        arm=arm,
+        rho_mm=rho_mm,
+        directions=directions,
         workers=workers,
         executor=executor,
         scheduler=scheduler,
+        out=out,
         seed=seed,
         time_limit=time_limit,
         record=record,
-        mounts=_names_option(mount, "mount", list(MOUNTS)),
-        sizes=_sizes_option(sizes),
-        arm=arm,
-        objects=object_names,
+        mount=mount,
+        sizes=sizes,
+        objects=objects,
     )
-    total = len(plan_trials(config))
-    with Progress(
-        "[progress.description]{task.description}",
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeElapsedColumn(),
-        console=err_console,
-    ) as progress:
-        task = progress.add_task("trials", total=total)
-
-        def on_trial(row: dict, done: int, _total: int) -> None:
-            state = "ok" if row.get("success") else row.get("error") or row.get("failure_reason")
-            progress.update(task, completed=done, description=f"{row['trial_id']}: {state}"[:60])
-
-        rows = run_sweep(config, on_trial=on_trial)
-        progress.update(task, completed=len(rows))
-    summary = summarize(rows)
-    csv_path, md_path = write_tables(summary, out)
-    figure = plot_summary(summary, out / "summary.png")
-    console.print(md_path.read_text(), markup=False, highlight=False)
-    console.print(
-        f"trials: {out / 'trials.jsonl'}\nsummary: {csv_path}, {md_path}\nfigure: {figure}"
-    )
+    run_evaluation(config, console, err_console)
 
 
 @app.command()
 def review(
-    run: Annotated[Path, typer.Argument(help="A run folder or its recording.rrd.")],
+    run: Annotated[Path, typer.Argument(help="A run folder, or its recording.")],
 ) -> None:
-    """Open a recorded run in the rerun viewer."""
-    import shutil
-    import subprocess
+    """Open a recorded run in the viewer of the plugin that recorded it."""
+    from graspframe.commands.review import review_command
 
-    path = run / "recording.rrd" if run.is_dir() else run
-    if not path.is_file():
-        raise InputError(f"no recording at {path}; runs record to <run folder>/recording.rrd")
-    beside_python = Path(sys.executable).parent / "rerun"
-    viewer = shutil.which("rerun") or (str(beside_python) if beside_python.is_file() else None)
-    if viewer is None:
-        raise InputError("the rerun viewer is not installed (it ships with rerun-sdk)")
-    raise typer.Exit(subprocess.call([viewer, str(path)]))
+    raise typer.Exit(review_command(run))
 
 
 @app.command("check-hand")
@@ -488,7 +344,7 @@ def check_hand(
 @db_app.command("build")
 def db_build(
     views_per_grasp: Annotated[int, typer.Option(help="Rendered views per grasp.")] = 2000,
-    size: Annotated[int, typer.Option(help="Rendered image side [px].")] = 128,
+    size: Annotated[int, typer.Option(help="Rendered image side \\[px].")] = 128,
     workers: Annotated[int, typer.Option(help="Rendering processes.")] = 2,
     seed: Annotated[int, typer.Option(help="Seed; the same seed gives the same database.")] = 0,
     out: Annotated[
@@ -496,7 +352,7 @@ def db_build(
     ] = None,
 ) -> None:
     """(Re)build the synthetic view database of the hog_knn classifier."""
-    from graspframe.vision.commands import db_build_command
+    from graspframe.commands.vision import db_build_command
 
     raise typer.Exit(db_build_command(views_per_grasp, size, workers, seed, out))
 
@@ -525,14 +381,6 @@ def main(argv: list[str] | None = None) -> int:
             )
         return EXIT_ERROR
     return 0
-
-
-def _quality_text(quality: Quality) -> str:
-    if quality.error is not None:
-        return f"not computed ({quality.error})"
-    if quality.values is None:
-        return "- (no contacts)"
-    return f"{quality.values['epsilon_l1']:.3f}"
 
 
 def _console_script() -> None:

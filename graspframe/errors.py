@@ -44,4 +44,5 @@ class MotionError(GraspframeError):
 
 
 class NotAvailableError(GraspframeError):
-    """A feature that this version of graspframe does not provide yet."""
+    """A feature that cannot run here: an optional part is not installed (an extra, a
+    viewer program), or this version of graspframe does not provide it yet."""

@@ -107,10 +107,14 @@ CLASSIFY_DONE = EventKind(
 )
 CLASSIFY_IMAGES = EventKind(
     "classify.images",
-    "Right after classify.done: the image the classifier saw and its hand mask.",
+    "Right after classify.done: the image the classifier saw and its pictures of its work.",
     (
         PayloadField("image_bgr", "HxWx3 uint8 input image, BGR"),
-        PayloadField("mask", "HxW skin mask of the image, nonzero on the hand"),
+        PayloadField(
+            "pictures",
+            "the classifier's pictures of its work, a tuple of `ClassifierPicture` (name, kind "
+            '"mask" or "image", pixels), e.g. its hand mask; empty when it shows none',
+        ),
     ),
     observer_only=True,
 )

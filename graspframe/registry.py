@@ -34,6 +34,7 @@ from graspframe.hal.classifier import Classifier
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.drivers import Backend
 from graspframe.hal.objects import ObjectDescription
+from graspframe.hal.viewer import Viewer
 from graspframe.plugins import hookspecs
 from graspframe.specs import is_spec_path, load_spec
 
@@ -89,6 +90,12 @@ KINDS: dict[str, _Kind] = {
             lambda x: isinstance(x, ObjectDescription),
             "an ObjectDescription",
         ),
+        _Kind(
+            "viewer",
+            "graspframe_register_viewers",
+            lambda x: isinstance(x, type) and issubclass(x, Viewer),
+            "a Viewer subclass",
+        ),
     )
 }
 
@@ -140,7 +147,7 @@ def _one_line(exc: BaseException) -> str:
 
 
 class Registry:
-    """Registered hands, arms, backends, classifiers and objects, with their origin."""
+    """Registered hands, arms, backends, classifiers, objects and viewers, with their origin."""
 
     def __init__(self, strict: bool | None = None):
         self.strict = _strict_from_env() if strict is None else strict

@@ -204,7 +204,7 @@ def resolve(request: RunRequest, registry: Registry) -> _Inputs:
     backend_cls = registry.get_backend(request.backend)
     scene = image = None
     if request.grasp is None:
-        from graspframe.vision.commands import read_image
+        from graspframe.vision.images import read_image
 
         if request.image and not request.scene:
             raise InputError("--image needs --scene (the camera and object poses of the image)")
@@ -340,14 +340,8 @@ def _human_grasp(request, inputs, registry, recorder, progress) -> HumanGraspInp
         T_object_palm=T_object_palm,
     )
     recorder.emit(CLASSIFY_DONE, **classification.to_json())
-    recorder.emit(CLASSIFY_IMAGES, image_bgr=inputs.image, mask=_hand_mask(inputs.image))
+    recorder.emit(CLASSIFY_IMAGES, image_bgr=inputs.image, pictures=estimate.pictures)
     return HumanGraspInput(grasp, T_object_palm, scene.T_world_object, classification)
-
-
-def _hand_mask(image):
-    from graspframe.vision.segmentation import hand_mask
-
-    return hand_mask(image)
 
 
 def _plan(request, inputs, human: HumanGraspInput, T_world_object_est) -> CheckedPlan:

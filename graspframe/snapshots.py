@@ -31,7 +31,7 @@ and table show through them tinted), and contacts and palm axes are drawn on top
 render after projecting them, so every contact is visible in every view; the three views
 then say which side it is on. The hand itself stays opaque: its shape is the subject.
 
-Rendered by graspframe/vision/render.py's CPU rasteriser (one context per process); the
+Rendered by graspframe/render.py's CPU rasteriser (one context per process); the
 sheet is composed with OpenCV and Pillow and written atomically.
 """
 

@@ -62,3 +62,41 @@ def test_run_refuses_a_grasp_and_an_image_together(capsys, tmp_path):
 def test_verbose_shows_the_traceback(capsys):
     assert main(["--verbose", "classify", "/nonexistent.png"]) == 1
     assert "Traceback" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("command", "units"),
+    [
+        (["evaluate"], ["error of experiment B [mm]", "wall-time limit [s]", "sizes [%] besides"]),
+        (["run"], ["Error 'DX,DY' [mm] added"]),
+        (["db", "build"], ["image side [px]"]),
+    ],
+)
+def test_help_shows_the_units_in_brackets(command, units, capsys, monkeypatch):
+    monkeypatch.setenv("COLUMNS", "200")  # one line per option
+    assert main([*command, "--help"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    for unit in units:
+        assert unit in out, unit
+
+
+def test_db_build_needs_the_hog_knn_plugin(tmp_path):
+    """The database belongs to the hog_knn plugin: without it, one line naming what is
+    registered, before anything is built."""
+    import os
+    import subprocess
+    import sys
+
+    environment = {**os.environ, "GRASPFRAME_DISABLE_PLUGINS": "hog_knn"}
+    out = tmp_path / "views.npz"
+    done = subprocess.run(
+        [sys.executable, "-m", "graspframe.cli", "db", "build", "--out", str(out)],
+        capture_output=True,
+        text=True,
+        env=environment,
+        timeout=120,
+    )
+    assert done.returncode == 1
+    message = " ".join(done.stderr.split())
+    assert "unknown classifier 'hog_knn'; known classifiers: landmarks" in message
+    assert not out.exists()

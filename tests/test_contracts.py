@@ -10,11 +10,18 @@ import pytest
 
 from graspframe.errors import GraspframeError
 from graspframe.grasps import PALM, HumanGrasp
-from graspframe.hal import Classifier, HandPreshape, HumanGraspEstimate, JointSpec
+from graspframe.hal import (
+    Classifier,
+    ClassifierPicture,
+    HandPreshape,
+    HumanGraspEstimate,
+    JointSpec,
+)
 from graspframe.testing import (
     assert_classifier_contract,
     assert_hand_contract,
     classifier_problems,
+    estimate_problems,
     hand_problems,
 )
 
@@ -121,6 +128,27 @@ class _GuessingClassifier(Classifier):
 
     def classify(self, image_bgr):
         return HumanGraspEstimate(HumanGrasp.PINCH, 0.5, np.eye(3), None)
+
+
+def test_estimate_pictures_must_be_masks_or_images():
+    mask = ClassifierPicture("mask", "mask", np.zeros((48, 64), np.uint8))
+    crop = ClassifierPicture("crop", "image", np.zeros((8, 8, 3), np.uint8))
+    estimate = HumanGraspEstimate(HumanGrasp.PINCH, 0.5, np.eye(3), None, pictures=(mask, crop))
+    assert estimate_problems(estimate, (48, 64, 3)) == []
+    bad = (
+        ClassifierPicture("mask", "mask", np.zeros((48, 64, 3), np.uint8)),
+        ClassifierPicture("depth", "depth", np.zeros((48, 64), np.uint8)),
+        ClassifierPicture("float", "image", np.zeros((8, 8), np.float32)),
+        ClassifierPicture("mask", "mask", np.zeros((10, 10), np.uint8)),
+    )
+    problems = estimate_problems(dataclasses.replace(estimate, pictures=bad), (48, 64, 3))
+    assert problems == [
+        "picture names repeat: ['mask', 'depth', 'float', 'mask']",
+        "picture 'mask': a mask is H x W, got shape (48, 64, 3)",
+        "picture 'depth': kind 'depth' is not one of mask, image",
+        "picture 'float': pixels are not a uint8 array",
+        "picture 'mask': mask (10, 10) is not the image's size (48, 64)",
+    ]
 
 
 def test_classifier_contract_accepts_a_refusing_classifier():

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 import graspframe.runner as runner
@@ -70,3 +72,58 @@ def test_observers_get_the_descriptions_of_the_run_and_declared_events(
     world_built = received[1][1]
     assert world_built.data["hand"] == run.hand.name
     assert world_built.data["object"] == run.object.name
+
+
+@pytest.mark.parametrize("shows_pictures", [True, False], ids=["pictures", "none"])
+def test_the_run_shows_the_pictures_the_classifier_gives(shows_pictures, tmp_path, monkeypatch):
+    """classify.images carries the classifier's own pictures, whatever they are, and none
+    for a classifier that shows none (the run computes no mask of its own)."""
+    import json
+
+    import numpy as np
+
+    from graspframe.hal import Classifier, ClassifierPicture, HumanGraspEstimate
+
+    _, demo_scene = runner.demo_paths()
+    truth = json.loads(Path(demo_scene).read_text())["truth"]
+    R_camera_palm = np.asarray(truth["T_camera_palm"])[:3, :3]
+    given = (ClassifierPicture("edges", "image", np.zeros((4, 6), np.uint8)),)
+
+    class Stated(Classifier):
+        name = "stated"
+
+        def classify(self, image_bgr):
+            pictures = given if shows_pictures else ()
+            return HumanGraspEstimate(
+                HumanGrasp(truth["grasp"]), 1.0, R_camera_palm, None, pictures=pictures
+            )
+
+    class Plugin:
+        @hookimpl
+        def graspframe_register_classifiers(self, register):
+            register(Stated)
+
+        @hookimpl
+        def graspframe_run_event(self, run, event):
+            if event.kind == events.CLASSIFY_IMAGES.name:
+                received.append(event.data)
+
+    received: list[dict] = []
+
+    def stop(*args, **kwargs):
+        raise RuntimeError("stop here")
+
+    monkeypatch.setattr(runner, "execute", stop)
+    registry = Registry.from_entry_points(strict=False)
+    registry.add_plugin("stated", Plugin())
+    request = runner.RunRequest(
+        hand="barrett", classifier="stated", out_root=str(tmp_path), record=False
+    )
+    with pytest.raises(RuntimeError, match="stop here"):
+        runner.run_grasp(request, registry)
+    (data,) = received
+    assert data["image_bgr"].shape == (480, 640, 3)
+    if shows_pictures:
+        assert data["pictures"] is given  # forwarded as the classifier gave them
+    else:
+        assert data["pictures"] == ()

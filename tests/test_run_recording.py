@@ -38,6 +38,7 @@ EXPECTED_ENTITIES = (
     "/plots/distance_to_goal",
     "/vision/input",
     "/vision/mask",
+    "/vision/crop",
     "/log",
 )
 # Entities with one sample per motion cycle (besides each /world/robot/<link>).

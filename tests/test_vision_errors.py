@@ -5,12 +5,13 @@ from __future__ import annotations
 import cv2
 import numpy as np
 import pytest
+from graspframe_hog_knn.classifier import HogKnnClassifier
 
+from graspframe.commands.vision import classify_command
 from graspframe.errors import GraspframeError, InputError
 from graspframe.testing import assert_classifier_contract
-from graspframe.vision.classifier import MAX_SIDE, HogKnnClassifier
-from graspframe.vision.commands import classify_command, read_image
-from graspframe.vision.segmentation import NoHandFoundError
+from graspframe.vision.common import NoHandFoundError
+from graspframe.vision.images import MAX_SIDE, read_image
 
 
 @pytest.fixture(scope="module")

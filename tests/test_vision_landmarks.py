@@ -15,11 +15,11 @@ from graspframe_landmarks.features import FEATURE_NAMES, MIRROR_X, angle_feature
 from graspframe_landmarks.postures import GRASP_ORDER, HumanModelLandmarks, posture_table
 from scipy.spatial.transform import Rotation
 
+from graspframe.commands.vision import classify_command
 from graspframe.errors import NotAvailableError, UnknownNameError
 from graspframe.registry import default_registry
 from graspframe.vision import hands
-from graspframe.vision.commands import classify_command
-from graspframe.vision.segmentation import NoHandFoundError
+from graspframe.vision.common import NoHandFoundError
 
 REAL_PHOTOS = Path("/work/shared/real_photos")
 FRAME_TOL_DEG = 10.0  # the landmark palm plane is tilted ~7 deg from the model's palm frame
@@ -137,7 +137,7 @@ def test_no_hand_is_refused(fresh_detector):
 @pytest.mark.skipif(not REAL_PHOTOS.is_dir(), reason="the real photographs are not here")
 def test_a_real_photo_is_classified(fresh_detector):
     pytest.importorskip("mediapipe")
-    from graspframe.vision.commands import read_image
+    from graspframe.vision.images import read_image
 
     estimate = LandmarkClassifier().classify(read_image(REAL_PHOTOS / "rp_002.jpg"))
     assert estimate.grasp in GRASP_ORDER

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from graspframe_hog_knn.rotations import angle_deg, average_rotations
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
 from graspframe.errors import GraspframeError
-from graspframe.vision.rotations import angle_deg, average_rotations
 
 unit_axes = st.tuples(*[st.floats(-1, 1)] * 3).filter(lambda v: np.linalg.norm(v) > 0.1)
 

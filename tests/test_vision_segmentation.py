@@ -8,17 +8,13 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
+from graspframe_hog_knn.classifier import HogKnnClassifier
+from graspframe_hog_knn.database import iter_views
+from graspframe_hog_knn.segmentation import crop_hand, hand_mask, segment_hand
+from graspframe_hog_knn.views import HELD_OUT
 
-from graspframe.vision.classifier import MIRROR_X, HogKnnClassifier, unmirror
-from graspframe.vision.commands import read_image
-from graspframe.vision.database import iter_views
-from graspframe.vision.segmentation import (
-    NoHandFoundError,
-    crop_hand,
-    hand_mask,
-    segment_hand,
-)
-from graspframe.vision.views import HELD_OUT
+from graspframe.vision.common import MIRROR_X, NoHandFoundError, unmirror
+from graspframe.vision.images import read_image
 
 REAL_PHOTOS = Path("/work/shared/real_photos")
 DEMO = Path(__file__).parents[1] / "graspframe" / "demo" / "demo.png"
@@ -67,7 +63,7 @@ def test_hand_free_images_are_refused(classifier, name, image, words):
 
 
 def skin_share(image: np.ndarray) -> float:
-    from graspframe.vision.segmentation import skin_pixels
+    from graspframe_hog_knn.segmentation import skin_pixels
 
     return float(np.count_nonzero(skin_pixels(image)) / skin_pixels(image)[..., None].size)
 
@@ -144,3 +140,18 @@ def test_real_hands_are_segmented_not_refused():
         image = read_image(path)
         crop = segment_hand(image)
         assert crop.area < 0.9 * image.shape[0] * image.shape[1], path.name
+
+
+def test_a_left_hand_mask_is_shown_in_the_image_pixels():
+    """The crop of a left hand is taken from the mirrored image; the mask the classifier
+    shows is flipped back onto the image it was given."""
+    from graspframe_hog_knn.classifier import pictures
+    from graspframe_hog_knn.segmentation import crop_hand_mirrored
+
+    image = read_image(DEMO)
+    mask = hand_mask(image)
+    crop = crop_hand_mirrored(image, mask)
+    assert crop.mirrored and not np.array_equal(crop.mask, mask)
+    shown = {picture.name: picture.pixels for picture in pictures(crop)}
+    assert np.array_equal(shown["mask"], mask)
+    assert np.array_equal(shown["crop"], crop.patch)

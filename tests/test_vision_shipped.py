@@ -8,13 +8,15 @@ from importlib.resources import files
 
 import numpy as np
 import pytest
+from graspframe_hog_knn.classifier import HogKnnClassifier
+from graspframe_hog_knn.database import FORMAT, load_database, read_metadata, shipped_database_path
+from graspframe_hog_knn.rotations import angle_deg
 
+from graspframe.commands.vision import classify_command
 from graspframe.grasps import HumanGrasp
 from graspframe.registry import default_registry
-from graspframe.vision.classifier import HogKnnClassifier
-from graspframe.vision.commands import classify_command, read_image
-from graspframe.vision.database import FORMAT, load_database, read_metadata, shipped_database_path
-from graspframe.vision.rotations import angle_deg
+from graspframe.testing import estimate_problems
+from graspframe.vision.images import read_image
 
 MAX_SHIPPED_MB = 5.0
 DEMO_MAX_ERROR_DEG = 20.0  # measured 2.5 deg
@@ -74,6 +76,19 @@ def test_demo_image_is_classified_correctly(demo):
     assert estimate.grasp.value == scene["truth"]["grasp"]
     assert error < DEMO_MAX_ERROR_DEG
     assert np.linalg.norm(estimate.p_camera_palm - truth[:3, 3]) < 0.05  # [m]
+
+
+def test_the_estimate_shows_the_mask_and_the_crop_it_used(demo):
+    from graspframe_hog_knn.segmentation import CROP_SIZE, hand_mask
+
+    image, _ = demo
+    estimate = HogKnnClassifier().classify(image)
+    assert not estimate_problems(estimate, image.shape)
+    pictures = {picture.name: picture for picture in estimate.pictures}
+    assert [(p.name, p.kind) for p in estimate.pictures] == [("mask", "mask"), ("crop", "image")]
+    # The whole hand is clear of the border: the mask is the plain skin mask.
+    assert np.array_equal(pictures["mask"].pixels, hand_mask(image))
+    assert pictures["crop"].pixels.shape == (CROP_SIZE, CROP_SIZE)
 
 
 def test_classify_command_prints_json(capsys):

@@ -7,6 +7,8 @@ import coal
 import faiss
 import ruckig
 import sapien
+from graspframe_hog_knn.demo import write_demo
+from graspframe_hog_knn.segmentation import HandCrop
 from graspframe_landmarks.features import FEATURE_NAMES
 from graspframe_sapien.drivers import SapienArmDriver, SapienHandDriver
 from graspframe_sapien.world import SapienWorld
@@ -23,8 +25,6 @@ from graspframe.motion.ik import IkSolver
 from graspframe.plugins.hookspecs import Register
 from graspframe.registry import Registry
 from graspframe.robot_model import CollisionModel
-from graspframe.vision.demo import write_demo
-from graspframe.vision.segmentation import HandCrop
 
 # Attributes that other libraries read once set.
 ruckig.InputParameter.duration_discretization

@@ -1,6 +1,7 @@
-"""The hardware abstraction layer: descriptions (what a robot is) and drivers (how to move it)."""
+"""The hardware abstraction layer: descriptions (what a robot is) and drivers (how to move
+it), and the interfaces of the other things plugins provide (classifiers, viewers)."""
 
-from graspframe.hal.classifier import Classifier, HumanGraspEstimate, Neighbour
+from graspframe.hal.classifier import Classifier, ClassifierPicture, HumanGraspEstimate, Neighbour
 from graspframe.hal.descriptions import (
     AdapterShape,
     ArmDescription,
@@ -14,6 +15,7 @@ from graspframe.hal.descriptions import (
 )
 from graspframe.hal.drivers import ArmDriver, Backend, HandDriver, ObjectProbe, World, WorldConfig
 from graspframe.hal.objects import ObjectDescription
+from graspframe.hal.viewer import Viewer
 
 __all__ = [
     "AdapterShape",
@@ -21,6 +23,7 @@ __all__ = [
     "ArmDriver",
     "Backend",
     "Classifier",
+    "ClassifierPicture",
     "Coupling",
     "DesignObject",
     "DriveGains",
@@ -33,6 +36,7 @@ __all__ = [
     "Neighbour",
     "ObjectDescription",
     "ObjectProbe",
+    "Viewer",
     "World",
     "WorldConfig",
 ]

@@ -23,6 +23,24 @@ class Neighbour:
     distance: float
 
 
+PICTURE_KINDS = ("mask", "image")
+
+
+@dataclass(frozen=True)
+class ClassifierPicture:
+    """A picture a classifier shows of its work on one image (a run's recording shows it
+    beside the image).
+
+    name: one word, unique within an estimate (e.g. "mask", "crop"); kind: "mask" (H x W
+    uint8 in the image's own pixels, nonzero where the classifier found the hand) or
+    "image" (H x W grey or H x W x 3 BGR uint8, any size); pixels: the array.
+    """
+
+    name: str
+    kind: str
+    pixels: NDArray[np.uint8]
+
+
 @dataclass(frozen=True)
 class HumanGraspEstimate:
     """What a classifier says about one image.
@@ -31,6 +49,8 @@ class HumanGraspEstimate:
     R_camera_palm: rotation of the human palm frame in the camera frame.
     p_camera_palm: palm position in the camera frame [m], None when not estimated.
     neighbours: the database views behind the estimate, nearest first.
+    pictures: what the classifier shows of its work on the image (its hand mask, the
+    crop it described, ...); none when it has nothing to show.
     """
 
     grasp: HumanGrasp
@@ -38,13 +58,15 @@ class HumanGraspEstimate:
     R_camera_palm: NDArray[np.float64]
     p_camera_palm: NDArray[np.float64] | None
     neighbours: tuple[Neighbour, ...] = ()
+    pictures: tuple[ClassifierPicture, ...] = ()
 
 
 class Classifier(ABC):
     """Turns a colour image (H x W x 3, uint8, BGR as OpenCV reads it) into an estimate.
 
     Registered as a class; `name` is what users select. Raises a GraspframeError (never
-    guesses) when the image holds no hand or cannot be used.
+    guesses) when the image holds no hand or cannot be used. The pictures a classifier
+    can show of its work come with its estimate (`HumanGraspEstimate.pictures`).
     """
 
     name: ClassVar[str]

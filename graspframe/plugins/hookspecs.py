@@ -50,6 +50,12 @@ def graspframe_register_objects(register: Register) -> None:
 
 
 @hookspec
+def graspframe_register_viewers(register: Register) -> None:
+    """Register viewers of recorded runs: call `register(ViewerClass)` for each (a
+    `Viewer` subclass); `graspframe review` asks them."""
+
+
+@hookspec
 def graspframe_run_started(run: RunInfo) -> None:
     """A run starts: `run` names it and gives its output directory, its parameters and the
     descriptions of its hand, arm and object."""

@@ -15,7 +15,12 @@ from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError
 from graspframe.grasps import PALM, HumanGrasp
-from graspframe.hal.classifier import Classifier, HumanGraspEstimate
+from graspframe.hal.classifier import (
+    PICTURE_KINDS,
+    Classifier,
+    ClassifierPicture,
+    HumanGraspEstimate,
+)
 from graspframe.hal.descriptions import (
     ArmDescription,
     DriveGains,
@@ -269,8 +274,11 @@ def classifier_problems(classifier_cls: type[Classifier]) -> list[str]:
     return problems
 
 
-def estimate_problems(estimate: HumanGraspEstimate) -> list[str]:
-    """A classifier's estimate must be well formed."""
+def estimate_problems(
+    estimate: HumanGraspEstimate, image_shape: tuple[int, ...] | None = None
+) -> list[str]:
+    """A classifier's estimate must be well formed; with the classified image's shape,
+    its masks must be the image's size."""
     problems = []
     if not isinstance(estimate.grasp, HumanGrasp):
         problems.append(f"grasp {estimate.grasp!r} is not a HumanGrasp")
@@ -279,7 +287,30 @@ def estimate_problems(estimate: HumanGraspEstimate) -> list[str]:
     R = np.asarray(estimate.R_camera_palm, dtype=float)
     if R.shape != (3, 3) or not np.allclose(R.T @ R, np.eye(3), atol=1e-6):
         problems.append("R_camera_palm is not a 3x3 rotation matrix")
+    names = [picture.name for picture in estimate.pictures]
+    if len(set(names)) != len(names):
+        problems.append(f"picture names repeat: {names}")
+    for picture in estimate.pictures:
+        problems += _picture_problems(picture, image_shape)
     return problems
+
+
+def _picture_problems(picture: ClassifierPicture, image_shape: tuple[int, ...] | None) -> list[str]:
+    """A classifier's picture: a known kind, uint8 pixels of a mask's or an image's shape."""
+    pixels = picture.pixels
+    label = f"picture {picture.name!r}"
+    if picture.kind not in PICTURE_KINDS:
+        return [f"{label}: kind {picture.kind!r} is not one of {', '.join(PICTURE_KINDS)}"]
+    if not isinstance(pixels, np.ndarray) or pixels.dtype != np.uint8:
+        return [f"{label}: pixels are not a uint8 array"]
+    if picture.kind == "mask":
+        if pixels.ndim != 2:
+            return [f"{label}: a mask is H x W, got shape {pixels.shape}"]
+        if image_shape is not None and pixels.shape != tuple(image_shape[:2]):
+            return [f"{label}: mask {pixels.shape} is not the image's size {image_shape[:2]}"]
+    elif not (pixels.ndim == 2 or (pixels.ndim == 3 and pixels.shape[2] == 3)):
+        return [f"{label}: an image is H x W or H x W x 3, got shape {pixels.shape}"]
+    return []
 
 
 BACKEND_TRACKING_TOL = np.radians(0.5)  # [rad] arm joints must hold home this closely

@@ -3,7 +3,8 @@
 Installed by the `hands` extra (`pip install graspframe[hands]`); the hand models ship
 inside the mediapipe wheel, so nothing is downloaded at run time. Imported lazily on
 first use; without mediapipe (or with GRASPFRAME_HAND_DETECTOR=none) `detect_hand`
-returns None and segmentation falls back to the colour method.
+returns None (the hog_knn plugin's segmentation then keeps its colour method; the
+landmarks plugin refuses).
 """
 
 from __future__ import annotations

@@ -1,9 +1,9 @@
-"""Registers the HOG + weighted-kNN classifier (graspframe.vision.classifier)."""
+"""Registers the HOG + weighted-kNN classifier (classifier.py)."""
 
 from __future__ import annotations
 
 from graspframe.plugins import hookimpl
-from graspframe.vision.classifier import HogKnnClassifier
+from graspframe_hog_knn.classifier import HogKnnClassifier
 
 
 @hookimpl

@@ -19,9 +19,8 @@ from numpy.typing import NDArray
 from graspframe.errors import InputError, NotAvailableError
 from graspframe.hal.classifier import Classifier, HumanGraspEstimate, Neighbour
 from graspframe.vision import hands
-from graspframe.vision.classifier import check_image
-from graspframe.vision.index import weighted_vote
-from graspframe.vision.segmentation import NoHandFoundError
+from graspframe.vision.common import NoHandFoundError, weighted_vote
+from graspframe.vision.images import check_image
 from graspframe_landmarks.features import angle_features, palm_frame
 from graspframe_landmarks.postures import GRASP_ORDER, PostureTable, posture_table
 

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.vision.classifier import MIRROR_X, unmirror
+from graspframe.vision.common import MIRROR_X, unmirror
 
 WRIST = 0
 THUMB = (1, 2, 3, 4)  # CMC, MCP, IP, tip

@@ -1,4 +1,5 @@
-"""The rerun recorder as an observer: one recording per run that asks for it."""
+"""The rerun recorder as an observer: one recording per run that asks for it; and its
+viewer, for `graspframe review`."""
 
 from __future__ import annotations
 
@@ -6,9 +7,15 @@ import logging
 
 from graspframe.plugins import hookimpl
 from graspframe_rerun.recording import RunRecording
+from graspframe_rerun.viewer import RerunViewer
 
 log = logging.getLogger(__name__)
 _recordings: dict[str, RunRecording] = {}
+
+
+@hookimpl
+def graspframe_register_viewers(register):
+    register(RerunViewer)
 
 
 @hookimpl

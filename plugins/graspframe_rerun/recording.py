@@ -18,7 +18,8 @@ Entity layout (all in the world frame, z up, metres):
     world/corrections                        goal corrections of the volar strategy
     vf/robot, vf/human                       virtual fingers, object frame, side by side
     plots/joints/<joint>, plots/palm_sensor, plots/distance_to_goal   scalars
-    vision/input, vision/mask                classification image and hand mask
+    vision/input, vision/<picture>           classification image and the classifier's
+                                             pictures of its work (hog_knn: mask, crop)
     log                                      the run's events as text
 Timeline "sim_time" [s]: simulation time of each sample. The static geometry (each
 link's meshes in the link frame, the table, the object) is logged once; the per-cycle
@@ -62,6 +63,8 @@ ARM_COLOUR = (235, 120, 20)
 COLLISION_OVERLAY_ALPHA = 70  # [0, 255] collision shapes over a link's visual meshes
 HUMAN_VF_OFFSET = np.array([0.0, 0.25, 0.0])  # [m] human virtual fingers beside the robot's
 FORCE_ARROW_SCALE = 0.005  # [m/N]
+RECORDING_SUFFIX = ".rrd"
+RECORDING_FILE = f"recording{RECORDING_SUFFIX}"  # in the run folder
 
 
 def finger_colour(name: str) -> tuple[int, int, int]:
@@ -127,7 +130,7 @@ class RunRecording:
             raise GraspframeError(f"run {run.run_id}: recording needs its hand and object")
         self._hand = run.hand
         self._object = run.object
-        self.path = Path(run.out_dir) / "recording.rrd"
+        self.path = Path(run.out_dir) / RECORDING_FILE
         self.stream = rr.RecordingStream("graspframe", recording_id=run.run_id)
         self.stream.save(str(self.path))
         self._cycles: MotionCycles | None = None  # from world.built on
@@ -304,11 +307,8 @@ class RunRecording:
 
     def _on_classify_images(self, data: dict) -> None:
         self._log("vision/input", rr.Image(np.asarray(data["image_bgr"])[..., ::-1]), static=True)
-        self._log(
-            "vision/mask",
-            rr.SegmentationImage(np.asarray(data["mask"]).astype(np.uint8)),
-            static=True,
-        )
+        for picture in data["pictures"]:
+            self._log(f"vision/{picture.name}", _picture_archetype(picture), static=True)
 
     def finish(self, status: str, error: str | None = None) -> None:
         """Send the cycles still buffered, log how the run ended (its status and error)
@@ -317,6 +317,15 @@ class RunRecording:
         self.text(f"run {status}: {error or ''}")
         self.stream.flush()
         self.stream.disconnect()
+
+
+def _picture_archetype(picture) -> rr.SegmentationImage | rr.Image:
+    """A classifier's picture (graspframe.hal.ClassifierPicture): a mask as a
+    segmentation image, a grey image as it is, a BGR image as RGB."""
+    pixels = np.asarray(picture.pixels)
+    if picture.kind == "mask":
+        return rr.SegmentationImage(pixels.astype(np.uint8))
+    return rr.Image(pixels[..., ::-1] if pixels.ndim == 3 else pixels)
 
 
 def _short(value) -> str:

@@ -9,7 +9,6 @@ brute-force L2). Distances returned are Euclidean (not squared) in PCA space.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -18,18 +17,6 @@ HNSW_M = 32  # graph degree
 HNSW_EF_CONSTRUCTION = 80
 HNSW_EF_SEARCH = 64
 INDEX_KINDS = ("hnsw", "flat")
-DISTANCE_FLOOR = 1e-6  # keeps the 1 / distance weight finite for an exact match
-
-
-def weighted_vote(
-    labels: NDArray[np.int64], distances: NDArray[np.float64], n_classes: int
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The distance-weighted kNN vote: (weights 1 / distance of the neighbours, votes per
-    class = the sum of their weights)."""
-    weights = 1.0 / np.maximum(distances, DISTANCE_FLOOR)
-    # With weights, bincount sums them as float64.
-    votes = cast(NDArray[np.float64], np.bincount(labels, weights=weights, minlength=n_classes))
-    return weights, votes
 
 
 @dataclass(frozen=True)

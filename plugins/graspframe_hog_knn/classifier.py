@@ -20,35 +20,23 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError, InputError
-from graspframe.hal.classifier import Classifier, HumanGraspEstimate, Neighbour
+from graspframe.hal.classifier import Classifier, ClassifierPicture, HumanGraspEstimate, Neighbour
 from graspframe.transforms import R_from_quat_xyzw
-from graspframe.vision.database import ViewDatabase, load_database
-from graspframe.vision.features import hog_descriptor
-from graspframe.vision.index import NeighbourIndex, weighted_vote
-from graspframe.vision.rotations import average_rotations
-from graspframe.vision.segmentation import segment_hand
-from graspframe.vision.views import GRASPS
+from graspframe.vision.common import unmirror, weighted_vote
+from graspframe.vision.images import check_image
+from graspframe_hog_knn.database import ViewDatabase, load_database
+from graspframe_hog_knn.features import hog_descriptor
+from graspframe_hog_knn.index import NeighbourIndex
+from graspframe_hog_knn.rotations import average_rotations
+from graspframe_hog_knn.segmentation import HandCrop, segment_hand
+from graspframe_hog_knn.views import GRASPS
 
 DEFAULT_K = 8
-MAX_SIDE = 4096  # [px] larger images are refused
-MIN_SIDE = 32  # [px] smaller images are refused
 DEFAULT_FOV_X_DEG = 60.0  # [deg] assumed horizontal field of view for p_camera_palm
 # [-] smallest share of the neighbours' weighted vote the winning grasp needs; below it
 # the neighbours disagree and the image is refused (measured in docs/vision.md: on
 # held-out renders it refuses 2 % of views, nearly all of them wrongly classified).
 DEFAULT_MIN_CONFIDENCE = 0.4
-# Reflection of the camera x axis: a left hand is classified in the mirrored image.
-MIRROR_X = np.diag([-1.0, 1.0, 1.0])
-FLIP_Y = np.diag([1.0, -1.0, 1.0])
-
-
-def unmirror(R_camera_palm_mirrored: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The palm frame of a left hand from the right-hand frame estimated in the mirrored
-    image: its fingertip axis x and palm normal z are the mirrored estimate's, reflected
-    back (S x, S z, with S = MIRROR_X), and y = z x x keeps it a right-handed rotation
-    (= -S y: a left hand's thumb is on its palm frame's +y side):
-    R = S R_mirrored diag(1, -1, 1)."""
-    return MIRROR_X @ R_camera_palm_mirrored @ FLIP_Y
 
 
 class UncertainGraspError(GraspframeError):
@@ -64,30 +52,15 @@ class Timings:
     search: float
 
 
-def check_image(image_bgr) -> NDArray[np.uint8]:
-    """The image if it is usable (H x W x 3 uint8 colour, 32..4096 px a side), else an
-    InputError saying what is wrong."""
-    if not isinstance(image_bgr, np.ndarray):
-        raise InputError(
-            f"expected an image array (H x W x 3 uint8), got {type(image_bgr).__name__}"
-        )
-    if image_bgr.size == 0:
-        raise InputError(f"the image is empty (shape {image_bgr.shape})")
-    if image_bgr.ndim == 2 or (image_bgr.ndim == 3 and image_bgr.shape[2] == 1):
-        raise InputError("the image is grey-level; skin segmentation needs a colour (BGR) image")
-    if image_bgr.ndim != 3 or image_bgr.shape[2] != 3:
-        raise InputError(f"expected an H x W x 3 colour image, got shape {image_bgr.shape}")
-    if image_bgr.dtype != np.uint8:
-        raise InputError(f"expected 8-bit pixels (uint8), got {image_bgr.dtype}")
-    h, w = image_bgr.shape[:2]
-    if max(h, w) > MAX_SIDE:
-        raise InputError(f"the image is {w}x{h} px; the accepted maximum is {MAX_SIDE} px a side")
-    if min(h, w) < MIN_SIDE:
-        raise InputError(f"the image is {w}x{h} px; the accepted minimum is {MIN_SIDE} px a side")
-    b, g, r = image_bgr[..., 0], image_bgr[..., 1], image_bgr[..., 2]
-    if np.array_equal(b, g) and np.array_equal(g, r):
-        raise InputError("the image is grey-level; skin segmentation needs a colour image")
-    return image_bgr
+def pictures(crop: HandCrop) -> tuple[ClassifierPicture, ...]:
+    """What this classifier shows of its work: "mask", the hand mask it cropped around
+    (in the image's own pixels, flipped back for a left hand), and "crop", the normalised
+    grey patch it described (as described: mirrored for a left hand)."""
+    mask = np.ascontiguousarray(crop.mask[:, ::-1]) if crop.mirrored else crop.mask
+    return (
+        ClassifierPicture("mask", "mask", mask),
+        ClassifierPicture("crop", "image", crop.patch),
+    )
 
 
 class HogKnnClassifier(Classifier):
@@ -189,6 +162,7 @@ class HogKnnClassifier(Classifier):
             R_camera_palm=R_camera_palm,
             p_camera_palm=self._palm_position(db, ids[same], weights[same], crop, shape),
             neighbours=neighbours,
+            pictures=pictures(crop),
         )
 
     def _palm_position(self, db, ids, weights, crop, shape) -> NDArray[np.float64]:

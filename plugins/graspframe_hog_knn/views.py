@@ -22,10 +22,10 @@ from numpy.typing import NDArray
 
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.objects import ObjectDescription
+from graspframe.render import Camera, Lighting, Renderer, composite
 from graspframe.transforms import R_from_axis_angle
-from graspframe.vision.render import Camera, Lighting, Renderer, composite
-from graspframe.vision.scene import HandModel, Mesh, T_palm_object, object_mesh
-from graspframe.vision.segmentation import skin_pixels
+from graspframe_hog_knn.hand_scene import HandModel, Mesh, T_palm_object, object_mesh
+from graspframe_hog_knn.segmentation import skin_pixels
 
 GRASPS = tuple(HumanGrasp)
 

@@ -1,6 +1,9 @@
 """The bundled demo: one rendered image of a human Large Diameter grasp on the
 large_cylinder, as the robot's camera sees it, with its ground truth (scene.json).
 
+Rendered with this classifier's hand model and backgrounds; `write_demo` writes it into
+the core's package folder graspframe/demo/, where `graspframe run` finds it by default.
+
 World: z up, table top at z = 0, the object upright at x = 0.55, y = 0.2 with its
 centroid at half its height; the human palm placed by `reference_placement`; the camera
 above the table looking down at the hand, OpenCV axes (x right, y down, z forward).
@@ -16,10 +19,10 @@ import numpy as np
 from graspframe.defaults import SCENE_FORMAT, SCENE_OBJECT_XY
 from graspframe.files import atomic_write
 from graspframe.grasps import HumanGrasp
+from graspframe.render import Camera, Lighting, Renderer, composite
 from graspframe.transforms import inv_T, make_T
-from graspframe.vision.render import Camera, Lighting, Renderer, composite
-from graspframe.vision.scene import HandModel, T_palm_object, object_mesh, primitive
-from graspframe.vision.views import SKIN_TONES, R_world_camera_looking, background
+from graspframe_hog_knn.hand_scene import HandModel, T_palm_object, object_mesh, primitive
+from graspframe_hog_knn.views import SKIN_TONES, R_world_camera_looking, background
 
 GRASP = HumanGrasp.LARGE_DIAMETER
 OBJECT_YAW = 0.0  # [rad] the human grasps from the robot's side (palm facing world +x)
@@ -112,7 +115,7 @@ def render_demo(seed: int = 7, renderer: Renderer | None = None):
 
 
 def demo_dir() -> Path:
-    """The package folder holding demo.png and scene.json."""
+    """The core's package folder holding demo.png and scene.json (graspframe/demo/)."""
     from importlib.resources import files
 
     return Path(str(files("graspframe.demo")))

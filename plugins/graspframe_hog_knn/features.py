@@ -13,7 +13,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.vision.segmentation import CROP_SIZE
+from graspframe_hog_knn.segmentation import CROP_SIZE
 
 CELL = 8  # [px]
 BLOCK = 16  # [px]

@@ -28,10 +28,10 @@ from graspframe.errors import GraspframeError, InputError
 from graspframe.files import atomic_output, atomic_write
 from graspframe.grasps import HumanGrasp
 from graspframe.transforms import quat_xyzw_from_R
-from graspframe.vision.features import HOG_PARAMETERS, hog_descriptor
-from graspframe.vision.index import Pca
-from graspframe.vision.segmentation import CROP_SIZE, NoHandFoundError, segment_hand
-from graspframe.vision.views import DISTRIBUTIONS, GRASPS, TRAIN, RenderedView
+from graspframe_hog_knn.features import HOG_PARAMETERS, hog_descriptor
+from graspframe_hog_knn.index import Pca
+from graspframe_hog_knn.segmentation import CROP_SIZE, NoHandFoundError, segment_hand
+from graspframe_hog_knn.views import DISTRIBUTIONS, GRASPS, TRAIN, RenderedView
 
 FORMAT = "graspframe.views/1"
 DEFAULT_VIEWS_PER_GRASP = 2000
@@ -128,8 +128,8 @@ _WORKER: dict = {}
 
 def _worker_state():
     if not _WORKER:
-        from graspframe.vision.render import Renderer, single_thread_llvmpipe
-        from graspframe.vision.scene import HandModel
+        from graspframe.render import Renderer, single_thread_llvmpipe
+        from graspframe_hog_knn.hand_scene import HandModel
 
         single_thread_llvmpipe()
         _WORKER["renderer"] = Renderer()
@@ -139,7 +139,7 @@ def _worker_state():
 
 def render_view_by_id(view_id: int, seed: int, size: int, distribution: str) -> RenderedView:
     """Render view `view_id` of the build with `seed` (grasp GRASPS[view_id % 6])."""
-    from graspframe.vision.views import render_view, sample_view
+    from graspframe_hog_knn.views import render_view, sample_view
 
     renderer, hand = _worker_state()
     rng = np.random.default_rng([seed, view_id])

@@ -1,4 +1,5 @@
-"""The `graspframe classify` and `graspframe db build` commands as plain functions.
+"""The vision commands: `graspframe classify` (any registered classifier) and
+`graspframe db build` (the view database of the hog_knn classifier, built by its plugin).
 
 cli.py wires them into the typer app; they print their results (rich) and return an
 exit code, and raise GraspframeError subclasses (one-line messages) for bad input.
@@ -6,6 +7,7 @@ exit code, and raise GraspframeError subclasses (one-line messages) for bad inpu
 
 from __future__ import annotations
 
+import importlib
 import json
 import sys
 from pathlib import Path
@@ -15,32 +17,16 @@ import numpy as np
 from graspframe.defaults import DEFAULT_CLASSIFIER
 from graspframe.errors import InputError
 from graspframe.transforms import rpy_from_R
+from graspframe.vision.images import read_image
+
+# The classifier whose view database `graspframe db build` builds, and the module of its
+# plugin that builds it (imported by name: the core imports no plugin package statically).
+DATABASE_CLASSIFIER = "hog_knn"
+DATABASE_COMMAND_MODULE = "graspframe_hog_knn.commands"
 
 EULER_CONVENTION = (
     "roll-pitch-yaw about the fixed camera axes x, y, z: R = Rz(yaw) Ry(pitch) Rx(roll)"
 )
-
-
-def read_image(path: Path) -> np.ndarray:
-    """Read an image file as BGR uint8; InputError if missing, unreadable or not an image."""
-    import cv2
-
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"image file not found: {path}")
-    data = np.fromfile(path, dtype=np.uint8)
-    if data.size == 0:
-        raise InputError(f"{path} is empty")
-    image = cv2.imdecode(data, cv2.IMREAD_UNCHANGED)
-    if image is None:
-        raise InputError(
-            f"{path} is not a readable image (accepted: PNG, JPEG, BMP, TIFF, WebP, PPM)"
-        )
-    if image.ndim == 3 and image.shape[2] == 4:
-        image = cv2.cvtColor(image, cv2.COLOR_BGRA2BGR)
-    if image.dtype == np.uint16:
-        image = (image // 257).astype(np.uint8)
-    return image
 
 
 def estimate_as_dict(estimate) -> dict:
@@ -129,50 +115,14 @@ def classify_command(
 
 
 def db_build_command(
-    views_per_grasp: int = 2000,
-    size: int = 128,
-    workers: int = 2,
-    seed: int = 0,
-    out: Path | None = None,
+    views_per_grasp: int, size: int, workers: int, seed: int, out: Path | None
 ) -> int:
-    """(Re)build the synthetic view database of the hog_knn classifier.
+    """(Re)build the synthetic view database of the hog_knn classifier: its plugin's
+    `db_build_command` (options in cli.py's `db build`). The registry must provide the
+    classifier first: with its plugin disabled or failed, the one-line error lists the
+    classifiers there are."""
+    from graspframe.registry import get_classifier
 
-    Options for the typer signature:
-      --views-per-grasp N  rendered views per grasp (default 2000; 6 grasps)
-      --size PX            rendered image side [px] (default 128, >= 32)
-      --workers N          rendering processes (default 2; about one per core)
-      --seed S             random seed; the same seed gives the same database (default 0)
-      --out PATH           output .npz (a .json with the metadata is written next to it;
-                           default: the database shipped with the package)
-    Shows a progress bar; prints the size, counts and build rate.
-    """
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
-
-    from graspframe.vision.database import build_database, shipped_database_path
-
-    out = Path(out) if out is not None else shipped_database_path()
-    console = Console()
-    with Progress(
-        "[progress.description]{task.description}",
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeRemainingColumn(),
-        console=console,
-    ) as progress:
-        task = progress.add_task("rendering views", total=views_per_grasp * 6)
-        database = build_database(
-            views_per_grasp,
-            size,
-            workers,
-            seed,
-            progress=lambda done, total: progress.update(task, completed=done),
-        )
-    npz, meta_path = database.save(out)
-    meta = database.metadata
-    console.print(
-        f"wrote {npz} ({npz.stat().st_size / 1e6:.2f} MB) and {meta_path.name}: "
-        f"{meta['views_stored']} views stored of {meta['views_rendered']} rendered, "
-        f"{meta['views_per_second']} views/s"
-    )
-    return 0
+    get_classifier(DATABASE_CLASSIFIER)
+    module = importlib.import_module(DATABASE_COMMAND_MODULE)
+    return module.db_build_command(views_per_grasp, size, workers, seed, out)

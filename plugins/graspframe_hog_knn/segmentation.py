@@ -17,7 +17,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import GraspframeError
+from graspframe.vision.common import NoHandFoundError
 
 CR_RANGE = (133, 173)
 CB_RANGE = (77, 127)
@@ -35,10 +35,6 @@ BONE_WIDTH = 0.04  # [-] width of the drawn skeleton, as a share of the hand siz
 SKIN_SIGMAS = 3.0  # [-] Mahalanobis radius of the per-image skin model
 SKIN_VARIANCE_FLOOR = 4.0  # [(8-bit chroma)^2] keeps the model's covariance invertible
 WRIST_CUT = 0.2  # [-] the forearm cut, this share of wrist -> middle knuckle past the wrist
-
-
-class NoHandFoundError(GraspframeError):
-    """No skin-coloured region large enough to be a hand."""
 
 
 @dataclass(frozen=True)
