@@ -18,18 +18,12 @@ from pathlib import Path
 import numpy as np
 
 from graspframe.defaults import (
-    DEFAULT_ARM,
-    DEFAULT_BACKEND,
-    DEFAULT_CLASSIFIER,
-    DISTURBANCE_FRACTION,
-    LIFT_HEIGHT,
     MOUNT_ARM,
     MOUNT_FLOATING,
-    MOUNTS,
     SCENE_OBJECT_XY,
     TABLE_HEIGHT,
 )
-from graspframe.errors import GraspframeError, InputError
+from graspframe.errors import GraspframeError
 from graspframe.events import (
     CLASSIFY_DONE,
     CLASSIFY_IMAGES,
@@ -41,112 +35,29 @@ from graspframe.events import (
     RunEvent,
     RunInfo,
 )
-from graspframe.grasps import HUMAN_HAND, PALM, HumanGrasp
-from graspframe.hal.descriptions import ArmDescription, HandDescription
-from graspframe.hal.drivers import Backend, World, WorldConfig
-from graspframe.hal.objects import ObjectDescription
-from graspframe.metrics.quality import grasp_quality
-from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_contacts
+from graspframe.grasps import PALM
+from graspframe.hal.drivers import World, WorldConfig
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.registry import Registry, default_registry
 from graspframe.results import new_run_dir, versions, write_json
+from graspframe.run_request import RunInputs, RunRequest, resolve
 from graspframe.run_result import (
     Classification,
     HumanGraspInput,
-    Quality,
     RunResult,
     Score,
     plan_json,
 )
-from graspframe.scene import Scene, check_on_table, load_scene
+from graspframe.scoring import score_grasp
 from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
 from graspframe.strategy.arm_path import CheckedPlan, choose_plan, floating_plan
-from graspframe.strategy.execution import Execution, GraspOutcome, execute
+from graspframe.strategy.execution import Execution, execute
 from graspframe.strategy.executor import ExecutorParams, MethodStrategy
-from graspframe.strategy.held_test import HeldTest, object_probe
-from graspframe.strategy.human_reference import (
-    HumanReference,
-    human_reference,
-    load_reference_file,
-)
+from graspframe.strategy.held_test import object_probe
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 
 log = logging.getLogger(__name__)
-
-MAX_OBJECT_ERROR = 0.5  # [m] larger injected errors are surely a unit mistake
-MAX_LIFT_HEIGHT = 0.3  # [m] a higher lift leaves the arm's comfortable workspace
-MAX_DISTURBANCE_FRACTION = 5.0  # of the object's weight
-
-
-@dataclass(frozen=True)
-class RunRequest:
-    """What to run.
-
-    grasp: the human grasp stated (skips vision); None: classify `image` (default: the
-        bundled demo) with `classifier`, the camera and object poses from `scene`.
-    object_error: [m] (dx, dy) added to the object position the robot believes (the
-        object itself stays put). human_contacts: a measured-contacts file replacing the
-        simulated human reference. record: stream a rerun recording of the run.
-    mount: "arm" (the hand on `arm`) or "floating" (the hand alone on a free 6-DOF
-        base, as in the method's grasp simulator).
-    """
-
-    hand: str
-    grasp: HumanGrasp | None = None
-    image: str | None = None
-    scene: str | None = None
-    classifier: str = DEFAULT_CLASSIFIER
-    arm: str = DEFAULT_ARM
-    object: str | None = None
-    object_error: tuple[float, float] = (0.0, 0.0)
-    seed: int = 0
-    backend: str = DEFAULT_BACKEND
-    out_root: str = "runs"
-    human_contacts: str | None = None
-    record: bool = True
-    mount: str = MOUNT_ARM
-    lift_height: float = LIFT_HEIGHT
-    disturbance_fraction: float = DISTURBANCE_FRACTION
-
-    def command(self) -> str:
-        """The command line that repeats this run."""
-        parts = ["graspframe", "run", "--hand", self.hand]
-        if self.grasp is not None:
-            parts += ["--grasp", self.grasp.value]
-        if self.image:
-            parts += ["--image", self.image, "--scene", str(self.scene)]
-        parts += ["--arm", self.arm, "--mount", self.mount, "--seed", str(self.seed)]
-        if self.object:
-            parts += ["--object", self.object]
-        if any(self.object_error):
-            dx, dy = (1000.0 * v for v in self.object_error)
-            parts += ["--object-error-mm", f"{dx:g},{dy:g}"]
-        if self.human_contacts:
-            parts += ["--human-contacts", self.human_contacts]
-        if not self.record:
-            parts += ["--no-record"]
-        if self.lift_height != LIFT_HEIGHT:
-            parts += ["--lift-height-mm", f"{1000.0 * self.lift_height:g}"]
-        if self.disturbance_fraction != DISTURBANCE_FRACTION:
-            parts += ["--disturbance-fraction", f"{self.disturbance_fraction:g}"]
-        return " ".join(parts)
-
-    def held_test(self) -> HeldTest:
-        """The held test of this run, for the robot and the human reference alike."""
-        if not (0.0 < self.lift_height <= MAX_LIFT_HEIGHT):
-            raise InputError(
-                f"lift height {1000 * self.lift_height:g} mm is outside (0, "
-                f"{1000 * MAX_LIFT_HEIGHT:g}] mm"
-            )
-        if not (0.0 <= self.disturbance_fraction <= MAX_DISTURBANCE_FRACTION):
-            raise InputError(
-                f"disturbance fraction {self.disturbance_fraction:g} is outside [0, "
-                f"{MAX_DISTURBANCE_FRACTION:g}] (a fraction of the object's weight)"
-            )
-        return HeldTest(
-            lift_height=self.lift_height, disturbance_fraction=self.disturbance_fraction
-        )
 
 
 Progress = Callable[[str], None]
@@ -168,78 +79,6 @@ class _Recorder:
         if not kind.observer_only:
             self.events.append({"kind": kind.name, "sim_time": event.sim_time, **data})
         self.registry.notify_run_event(self.run, event)
-
-
-def demo_paths() -> tuple[Path, Path]:
-    """The bundled demo image and its scene file."""
-    from importlib.resources import files
-
-    folder = Path(str(files("graspframe.demo")))
-    return folder / "demo.png", folder / "scene.json"
-
-
-@dataclass(frozen=True)
-class _Inputs:
-    """Everything a run needs, looked up and read before it starts."""
-
-    hand: HandDescription
-    arm: ArmDescription
-    backend_cls: type[Backend]
-    reference_backend_cls: type[Backend]
-    held_test: HeldTest
-    obj: ObjectDescription
-    human: HandDescription
-    reference_file: HumanReference | None
-    scene: Scene | None
-    image: np.ndarray | None
-
-
-def resolve(request: RunRequest, registry: Registry) -> _Inputs:
-    """Look every name up and read every input first: bad input fails before anything
-    runs."""
-    if request.mount not in MOUNTS:
-        raise InputError(f"unknown mount {request.mount!r}; mounts: {', '.join(MOUNTS)}")
-    hand = registry.get_hand(request.hand)
-    arm = registry.get_arm(request.arm)
-    backend_cls = registry.get_backend(request.backend)
-    scene = image = None
-    if request.grasp is None:
-        from graspframe.vision.images import read_image
-
-        if request.image and not request.scene:
-            raise InputError("--image needs --scene (the camera and object poses of the image)")
-        demo_image, demo_scene = demo_paths()
-        registry.get_classifier(request.classifier)
-        image = read_image(Path(request.image or demo_image))
-        scene = load_scene(request.scene or demo_scene)
-    if request.object:
-        obj = registry.get_object(request.object)
-    elif scene is not None:
-        obj = registry.get_object(scene.object_name)
-    else:
-        assert request.grasp is not None  # without a grasp the scene names the object
-        obj = registry.default_object_for(request.grasp)
-    if scene is not None:
-        check_on_table(scene, obj.half_height, TABLE_HEIGHT)
-    if any(not np.isfinite(v) or abs(v) > MAX_OBJECT_ERROR for v in request.object_error):
-        raise InputError(
-            f"object error {request.object_error} m is not finite or above {MAX_OBJECT_ERROR} m"
-        )
-    reference_file = load_reference_file(request.human_contacts) if request.human_contacts else None
-    human = registry.get_hand(HUMAN_HAND)
-    reference_backend_cls = registry.get_backend(DEFAULT_BACKEND)
-    return _Inputs(
-        hand,
-        arm,
-        backend_cls,
-        reference_backend_cls,
-        request.held_test(),
-        obj,
-        human,
-        reference_file,
-        scene,
-        image,
-    )
 
 
 @dataclass
@@ -396,7 +235,7 @@ def _run_stages(request, inputs, registry, recorder, stages: _Stages, progress) 
     )
 
     progress("scoring against the human reference")
-    stages.score, reference = _score_run(inputs, human.grasp, checked, execution.outcome)
+    stages.score, reference = score_grasp(inputs, human.grasp, checked, execution.outcome)
     if reference.picture is not None:
         # The human grasp's picture beside the robot's snapshots.png.
         picture = Path(recorder.run.out_dir) / "human_reference.png"
@@ -411,7 +250,7 @@ def _run_stages(request, inputs, registry, recorder, stages: _Stages, progress) 
 
 
 def _execute_in_world(
-    inputs: _Inputs,
+    inputs: RunInputs,
     checked: CheckedPlan,
     config: WorldConfig,
     T_world_object_est,
@@ -472,40 +311,6 @@ def _execute_in_world(
     )
 
 
-def _score_run(inputs, grasp, checked, outcome: GraspOutcome) -> tuple[Score, HumanReference]:
-    """(the robot's grasp scored against the human reference, that reference)."""
-    obj, human = inputs.obj, inputs.human
-    # The human reference is simulated on the default backend whatever backend executes
-    # the robot: the same reference for every robot backend (its cache key names it).
-    reference = inputs.reference_file or human_reference(
-        grasp, obj, human, inputs.reference_backend_cls(), inputs.held_test
-    )
-    # A grasp turned about a symmetric object's axis is scored in the turned object frame.
-    T_world_object_scored = outcome.T_world_object_at_hold @ make_T(checked.plan.R_object_symmetry)
-    robot_contacts = tuple(c.in_object_frame(T_world_object_scored) for c in outcome.contacts)
-    score = Score(
-        human_source=reference.source,
-        human_touching_fingers=tuple(reference.touching_fingers),
-        human_held=reference.held,
-        robot_contacts=robot_contacts,
-        human_contacts=tuple(reference.contacts),
-        quality_robot=_quality(list(robot_contacts), obj),
-        quality_human=_quality(list(reference.contacts), obj),
-    )
-    try:
-        robot_vf = virtual_fingers_from_contacts(list(robot_contacts))
-        human_vf = virtual_fingers_from_contacts(reference.contacts)
-        comparison = compare(
-            robot_vf,
-            human_vf,
-            robot_real_fingers=list(inputs.hand.finger_names),
-            human_real_fingers=list(human.finger_names),
-        )
-    except GraspframeError as exc:
-        return replace(score, error=str(exc)), reference
-    return replace(score, robot=robot_vf, human=human_vf, comparison=comparison), reference
-
-
 def _draw_snapshots(run_dir, checked, config, execution: Execution, grasp) -> Path | None:
     """snapshots.png in the run folder: the robot, object, table and contacts at first
     contact, hold and after the lift (None when nothing was captured)."""
@@ -522,21 +327,3 @@ def _draw_snapshots(run_dir, checked, config, execution: Execution, grasp) -> Pa
         f"{config.object.name}; {verdict}"
     )
     return draw_snapshots(Path(run_dir) / "snapshots.png", scene, frames, title)
-
-
-def _quality(contacts_object, obj) -> Quality:
-    """Ferrari-Canny L1 quality of contacts given in the object frame (no values without
-    contacts): the object's static friction, torques about its centroid over its half
-    largest dimension (docs/method.md, "Grasp quality")."""
-    if not contacts_object:
-        return Quality()
-    try:
-        quality = grasp_quality(
-            [c.p for c in contacts_object],
-            [-np.asarray(c.n) for c in contacts_object],  # contact normals point out
-            obj.static_friction,
-            torque_length=obj.largest_dimension / 2,
-        )
-    except GraspframeError as exc:  # e.g. a measured contacts file without normals
-        return Quality(error=str(exc))
-    return Quality(quality.to_dict())

@@ -8,10 +8,12 @@ import pytest
 
 import graspframe.runner as runner
 from graspframe import events
+from graspframe.defaults import MOUNT_ARM, MOUNTS
 from graspframe.errors import GraspframeError
 from graspframe.grasps import HumanGrasp
 from graspframe.plugins import hookimpl
 from graspframe.registry import Registry
+from graspframe.run_request import demo_paths
 
 
 def test_every_kind_is_declared_once_with_distinct_fields():
@@ -32,7 +34,7 @@ def test_a_payload_must_match_its_declaration():
     events.EXECUTE_DISTURBANCE.check({"skipped": "this probe cannot push"})  # optional fields
 
 
-@pytest.mark.parametrize("mount", runner.MOUNTS)
+@pytest.mark.parametrize("mount", MOUNTS)
 def test_observers_get_the_descriptions_of_the_run_and_declared_events(
     mount, tmp_path, monkeypatch
 ):
@@ -62,7 +64,7 @@ def test_observers_get_the_descriptions_of_the_run_and_declared_events(
     (run,) = started
     assert run.hand is registry.get_hand("barrett")
     # The hand on the floating base is on no arm.
-    assert run.arm is (registry.get_arm("kuka") if mount == runner.MOUNT_ARM else None)
+    assert run.arm is (registry.get_arm("kuka") if mount == MOUNT_ARM else None)
     assert run.object is registry.default_object_for(HumanGrasp.PINCH)
     assert all(seen is run for seen, _ in received)
     kinds = [event.kind for _, event in received]
@@ -84,7 +86,7 @@ def test_the_run_shows_the_pictures_the_classifier_gives(shows_pictures, tmp_pat
 
     from graspframe.hal import Classifier, ClassifierPicture, HumanGraspEstimate
 
-    _, demo_scene = runner.demo_paths()
+    _, demo_scene = demo_paths()
     truth = json.loads(Path(demo_scene).read_text())["truth"]
     R_camera_palm = np.asarray(truth["T_camera_palm"])[:3, :3]
     given = (ClassifierPicture("edges", "image", np.zeros((4, 6), np.uint8)),)

@@ -22,7 +22,7 @@ LAYERS = {
         "motion", "metrics", "strategy", "vision", "testing", "checks", "render", "pictures",
         "snapshots",
     ),
-    "runs": ("runner", "experiments"),
+    "runs": ("run_request", "run_result", "scoring", "runner", "experiments"),
     "cli": ("cli", "commands"),
 }  # fmt: skip
 RANK = {part: rank for rank, parts in enumerate(LAYERS.values()) for part in parts}

@@ -35,9 +35,7 @@ MAX_MODULE_LINES = 450
 # Longer than that today, each waiting to be split; no other module may grow past it.
 LONG_MODULES = {
     "graspframe/metrics/virtual_fingers.py",
-    "graspframe/runner.py",
     "graspframe/specs.py",
-    "graspframe/strategy/executor.py",
     "plugins/graspframe_human/description.py",
 }
 

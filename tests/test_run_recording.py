@@ -20,6 +20,7 @@ from graspframe.errors import GraspframeError
 from graspframe.events import EXECUTE_PRESHAPE, MOTION_CYCLE, WORLD_BUILT, RunInfo
 from graspframe.hal import ObjectDescription
 from graspframe.robot_model import CollisionModel
+from graspframe.run_request import demo_paths
 from graspframe.transforms import make_T
 from graspframe.urdf_model import read_model
 
@@ -167,7 +168,7 @@ def test_a_run_that_raises_midway_leaves_a_readable_recording(tmp_path, monkeypa
 
 
 def _scene(tmp_path: Path, **changes) -> Path:
-    scene = json.loads((Path(runner.demo_paths()[1])).read_text())
+    scene = json.loads((Path(demo_paths()[1])).read_text())
     scene.update(changes)
     path = tmp_path / "scene.json"
     path.write_text(json.dumps(scene))
@@ -185,7 +186,7 @@ def _scene(tmp_path: Path, **changes) -> Path:
     ],
 )
 def test_bad_user_inputs_give_their_error_and_exit_code(case, expected, tmp_path, capsys):
-    demo_image, _ = runner.demo_paths()
+    demo_image, _ = demo_paths()
     image = demo_image
     scene = _scene(tmp_path)
     if case == "no hand in the image":

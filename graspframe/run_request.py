@@ -1,0 +1,175 @@
+"""What a run is asked (`RunRequest`) and everything it needs, looked up and read before
+it starts (`RunInputs`, `resolve`): bad input fails before anything runs."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from graspframe.defaults import (
+    DEFAULT_ARM,
+    DEFAULT_BACKEND,
+    DEFAULT_CLASSIFIER,
+    DISTURBANCE_FRACTION,
+    LIFT_HEIGHT,
+    MOUNT_ARM,
+    MOUNTS,
+    TABLE_HEIGHT,
+)
+from graspframe.errors import InputError
+from graspframe.grasps import HUMAN_HAND, HumanGrasp
+from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.hal.drivers import Backend
+from graspframe.hal.objects import ObjectDescription
+from graspframe.registry import Registry
+from graspframe.scene import Scene, check_on_table, load_scene
+from graspframe.strategy.held_test import HeldTest
+from graspframe.strategy.human_reference import HumanReference, load_reference_file
+
+MAX_OBJECT_ERROR = 0.5  # [m] larger injected errors are surely a unit mistake
+MAX_LIFT_HEIGHT = 0.3  # [m] a higher lift leaves the arm's comfortable workspace
+MAX_DISTURBANCE_FRACTION = 5.0  # of the object's weight
+
+
+@dataclass(frozen=True)
+class RunRequest:
+    """What to run.
+
+    grasp: the human grasp stated (skips vision); None: classify `image` (default: the
+        bundled demo) with `classifier`, the camera and object poses from `scene`.
+    object_error: [m] (dx, dy) added to the object position the robot believes (the
+        object itself stays put). human_contacts: a measured-contacts file replacing the
+        simulated human reference. record: stream a rerun recording of the run.
+    mount: "arm" (the hand on `arm`) or "floating" (the hand alone on a free 6-DOF
+        base, as in the method's grasp simulator).
+    """
+
+    hand: str
+    grasp: HumanGrasp | None = None
+    image: str | None = None
+    scene: str | None = None
+    classifier: str = DEFAULT_CLASSIFIER
+    arm: str = DEFAULT_ARM
+    object: str | None = None
+    object_error: tuple[float, float] = (0.0, 0.0)
+    seed: int = 0
+    backend: str = DEFAULT_BACKEND
+    out_root: str = "runs"
+    human_contacts: str | None = None
+    record: bool = True
+    mount: str = MOUNT_ARM
+    lift_height: float = LIFT_HEIGHT
+    disturbance_fraction: float = DISTURBANCE_FRACTION
+
+    def command(self) -> str:
+        """The command line that repeats this run."""
+        parts = ["graspframe", "run", "--hand", self.hand]
+        if self.grasp is not None:
+            parts += ["--grasp", self.grasp.value]
+        if self.image:
+            parts += ["--image", self.image, "--scene", str(self.scene)]
+        parts += ["--arm", self.arm, "--mount", self.mount, "--seed", str(self.seed)]
+        if self.object:
+            parts += ["--object", self.object]
+        if any(self.object_error):
+            dx, dy = (1000.0 * v for v in self.object_error)
+            parts += ["--object-error-mm", f"{dx:g},{dy:g}"]
+        if self.human_contacts:
+            parts += ["--human-contacts", self.human_contacts]
+        if not self.record:
+            parts += ["--no-record"]
+        if self.lift_height != LIFT_HEIGHT:
+            parts += ["--lift-height-mm", f"{1000.0 * self.lift_height:g}"]
+        if self.disturbance_fraction != DISTURBANCE_FRACTION:
+            parts += ["--disturbance-fraction", f"{self.disturbance_fraction:g}"]
+        return " ".join(parts)
+
+    def held_test(self) -> HeldTest:
+        """The held test of this run, for the robot and the human reference alike."""
+        if not (0.0 < self.lift_height <= MAX_LIFT_HEIGHT):
+            raise InputError(
+                f"lift height {1000 * self.lift_height:g} mm is outside (0, "
+                f"{1000 * MAX_LIFT_HEIGHT:g}] mm"
+            )
+        if not (0.0 <= self.disturbance_fraction <= MAX_DISTURBANCE_FRACTION):
+            raise InputError(
+                f"disturbance fraction {self.disturbance_fraction:g} is outside [0, "
+                f"{MAX_DISTURBANCE_FRACTION:g}] (a fraction of the object's weight)"
+            )
+        return HeldTest(
+            lift_height=self.lift_height, disturbance_fraction=self.disturbance_fraction
+        )
+
+
+def demo_paths() -> tuple[Path, Path]:
+    """The bundled demo image and its scene file."""
+    from importlib.resources import files
+
+    folder = Path(str(files("graspframe.demo")))
+    return folder / "demo.png", folder / "scene.json"
+
+
+@dataclass(frozen=True)
+class RunInputs:
+    """Everything a run needs, looked up and read before it starts."""
+
+    hand: HandDescription
+    arm: ArmDescription
+    backend_cls: type[Backend]
+    reference_backend_cls: type[Backend]
+    held_test: HeldTest
+    obj: ObjectDescription
+    human: HandDescription
+    reference_file: HumanReference | None
+    scene: Scene | None
+    image: np.ndarray | None
+
+
+def resolve(request: RunRequest, registry: Registry) -> RunInputs:
+    """Look every name up and read every input first: bad input fails before anything
+    runs."""
+    if request.mount not in MOUNTS:
+        raise InputError(f"unknown mount {request.mount!r}; mounts: {', '.join(MOUNTS)}")
+    hand = registry.get_hand(request.hand)
+    arm = registry.get_arm(request.arm)
+    backend_cls = registry.get_backend(request.backend)
+    scene = image = None
+    if request.grasp is None:
+        from graspframe.vision.images import read_image
+
+        if request.image and not request.scene:
+            raise InputError("--image needs --scene (the camera and object poses of the image)")
+        demo_image, demo_scene = demo_paths()
+        registry.get_classifier(request.classifier)
+        image = read_image(Path(request.image or demo_image))
+        scene = load_scene(request.scene or demo_scene)
+    if request.object:
+        obj = registry.get_object(request.object)
+    elif scene is not None:
+        obj = registry.get_object(scene.object_name)
+    else:
+        assert request.grasp is not None  # without a grasp the scene names the object
+        obj = registry.default_object_for(request.grasp)
+    if scene is not None:
+        check_on_table(scene, obj.half_height, TABLE_HEIGHT)
+    if any(not np.isfinite(v) or abs(v) > MAX_OBJECT_ERROR for v in request.object_error):
+        raise InputError(
+            f"object error {request.object_error} m is not finite or above {MAX_OBJECT_ERROR} m"
+        )
+    reference_file = load_reference_file(request.human_contacts) if request.human_contacts else None
+    human = registry.get_hand(HUMAN_HAND)
+    reference_backend_cls = registry.get_backend(DEFAULT_BACKEND)
+    return RunInputs(
+        hand,
+        arm,
+        backend_cls,
+        reference_backend_cls,
+        request.held_test(),
+        obj,
+        human,
+        reference_file,
+        scene,
+        image,
+    )
