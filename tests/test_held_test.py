@@ -29,6 +29,7 @@ def test_a_lift_height_set_once_judges_the_robot_and_the_human(tmp_path, monkeyp
         out_root=str(tmp_path / "runs"),
         record=False,
         lift_height=0.03,
+        disturbance_fraction=0.0,
     )
     result = run_grasp(request, default_registry()).to_json()
     # The robot's grasp, then the human reference's: both lifted 3 cm.
@@ -37,6 +38,9 @@ def test_a_lift_height_set_once_judges_the_robot_and_the_human(tmp_path, monkeyp
     assert outcome["lift_height"] == 0.03
     assert outcome["held_after_lift"] and outcome["object_rise"] == pytest.approx(0.03, abs=0.005)
     assert "--lift-height-mm 30" in result["reproduce"]
+    # A push of no force is not a passed disturbance test: it is reported as not run.
+    assert outcome["held_under_disturbance"] is None
+    assert outcome["disturbance_skipped"] == "disturbance fraction 0"
 
 
 @pytest.mark.parametrize(

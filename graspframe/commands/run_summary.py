@@ -11,8 +11,10 @@ if TYPE_CHECKING:  # the run's types import the whole pipeline: only for annotat
     from graspframe.run_result import Quality, RunResult
 
 
-def _tested(value: bool | None) -> str:
-    return "not tested" if value is None else str(value)
+def _tested(value: bool | None, skipped: str | None) -> str:
+    if value is not None:
+        return str(value)
+    return f"not tested ({skipped})" if skipped else "not tested"
 
 
 def _quality_text(quality: Quality) -> str:
@@ -40,11 +42,12 @@ def print_run_summary(result: RunResult, console: Console) -> None:
         )
     outcome = result.outcome
     if outcome is not None:
+        disturbance = _tested(outcome.held_under_disturbance, outcome.disturbance_skipped)
         console.print(
             f"corrections: {outcome.corrections}   palm contact: {outcome.palm_contact}   "
-            f"held after a {100 * outcome.lift_height:.0f} cm lift: {outcome.held_after_lift} "
+            f"held after a {1000 * outcome.lift_height:.0f} mm lift: {outcome.held_after_lift} "
             f"(object rose {1000 * outcome.object_rise:.0f} mm)   "
-            f"held under disturbance: {_tested(outcome.held_under_disturbance)}"
+            f"held under disturbance: {disturbance}"
         )
         per_finger: dict[str, int] = {}
         for contact in outcome.contacts:
