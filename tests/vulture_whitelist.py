@@ -10,13 +10,12 @@ import sapien
 from graspframe_hog_knn.demo import write_demo
 from graspframe_hog_knn.segmentation import HandCrop
 from graspframe_landmarks.features import FEATURE_NAMES
-from graspframe_sapien.drivers import SapienArmDriver, SapienHandDriver
+from graspframe_sapien.drivers import SapienHandDriver
 from graspframe_sapien.world import SapienWorld
 
 from graspframe.convex import ConvexPieces
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.descriptions import ArmDescription, HandDescription
-from graspframe.hal.drivers import ArmDriver
 from graspframe.hal.objects import ObjectDescription
 from graspframe.mesh_geometry import MeshGeometry
 from graspframe.metrics.virtual_fingers import MatchedPair, VirtualFingerGrasp
@@ -58,8 +57,6 @@ HandCrop.area
 
 # Interfaces: the plugin callback protocol and the HAL arm driver's measured velocities.
 Register.__call__
-ArmDriver.joint_velocities
-SapienArmDriver.joint_velocities
 
 # SAPIEN's URDF loader reads these while parsing model text (graspframe_sapien.articulation).
 sapien.wrapper.urdf_loader.URDFLoader.package_dir

@@ -82,10 +82,6 @@ class ArmDriver(ABC):
     def joint_positions(self) -> NDArray[np.float64]:
         """Measured joint positions [rad], in `joint_names` order."""
 
-    @abstractmethod
-    def joint_velocities(self) -> NDArray[np.float64]:
-        """Measured joint velocities [rad/s]."""
-
 
 class HandDriver(ABC):
     """Joint-level access to a hand, its contacts and its palm sensor."""

@@ -34,6 +34,12 @@ def rgb(colour: str) -> tuple[float, float, float]:
     return (int(value[0:2], 16) / 255, int(value[2:4], 16) / 255, int(value[4:6], 16) / 255)
 
 
+def rgb255(colour: str) -> tuple[int, int, int]:
+    """ "#rrggbb" -> (r, g, b) in 0..255."""
+    blue, green, red = bgr255(colour)
+    return (red, green, blue)
+
+
 def bgr255(colour: str) -> tuple[int, int, int]:
     """ "#rrggbb" -> (b, g, r) in 0..255."""
     value = colour.lstrip("#")
@@ -48,6 +54,14 @@ def finger_colours(finger_of_link: Mapping[str, str]) -> dict[str, str]:
             colours[finger] = FINGER_COLOURS[len(colours) % len(FINGER_COLOURS)]
     colours[PALM] = PALM_COLOUR
     return colours
+
+
+def colour_of_finger(finger: str, colours: Mapping[str, str]) -> str:
+    """`colours[finger]`; a finger `colours` lacks (another hand's, such as the human
+    reference's) gets a colour picked from its name, the same in every run."""
+    if finger in colours:
+        return colours[finger]
+    return FINGER_COLOURS[sum(map(ord, finger)) % len(FINGER_COLOURS)]
 
 
 def link_colour(link: str, finger_of_link: Mapping[str, str], colours: Mapping[str, str]) -> str:

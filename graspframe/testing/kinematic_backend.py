@@ -43,7 +43,6 @@ class KinematicArmDriver(ArmDriver):
     def __init__(self, arm: ArmDescription):
         self.arm = arm
         self._q = np.asarray(arm.home_q, dtype=float).copy()
-        self._qd = np.zeros(arm.dof)
         self._target = self._q.copy()
         self._max_velocity = np.array([j.max_velocity for j in arm.joints])
 
@@ -66,15 +65,10 @@ class KinematicArmDriver(ArmDriver):
     def joint_positions(self) -> NDArray[np.float64]:
         return self._q.copy()
 
-    def joint_velocities(self) -> NDArray[np.float64]:
-        return self._qd.copy()
-
     def advance(self, dt: float) -> None:
         """Move every joint towards its target for `dt` [s]."""
         step = self._max_velocity * dt
-        q_new = self._q + np.clip(self._target - self._q, -step, step)
-        self._qd = (q_new - self._q) / dt
-        self._q = q_new
+        self._q = self._q + np.clip(self._target - self._q, -step, step)
 
 
 class KinematicHandDriver(HandDriver):

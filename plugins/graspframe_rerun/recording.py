@@ -42,7 +42,7 @@ from graspframe import events
 from graspframe.defaults import TABLE_HALF_SIZE
 from graspframe.errors import GraspframeError
 from graspframe.events import RunInfo
-from graspframe.grasps import PALM
+from graspframe.pictures import style
 from graspframe.pictures.meshes import Surface, robot_meshes, vertex_normals
 from graspframe.pictures.style import tinted
 from graspframe.robot_model import CollisionModel
@@ -50,27 +50,11 @@ from graspframe.shapes import object_collision_meshes, object_mesh, textured_obj
 from graspframe.transforms import quat_xyzw_from_R
 from graspframe_rerun.cycles import MotionCycles, RobotPoser
 
-FINGER_COLOURS = {
-    PALM: (150, 150, 150),
-    "thumb": (230, 97, 1),
-    "index": (27, 158, 119),
-    "middle": (117, 112, 179),
-    "ring": (231, 41, 138),
-    "little": (102, 166, 30),
-}
-FALLBACK_COLOURS = [(230, 171, 2), (166, 118, 29), (31, 120, 180), (251, 154, 153)]
-ARM_COLOUR = (235, 120, 20)
 COLLISION_OVERLAY_ALPHA = 70  # [0, 255] collision shapes over a link's visual meshes
 HUMAN_VF_OFFSET = np.array([0.0, 0.25, 0.0])  # [m] human virtual fingers beside the robot's
 FORCE_ARROW_SCALE = 0.005  # [m/N]
 RECORDING_SUFFIX = ".rrd"
 RECORDING_FILE = f"recording{RECORDING_SUFFIX}"  # in the run folder
-
-
-def finger_colour(name: str) -> tuple[int, int, int]:
-    if name in FINGER_COLOURS:
-        return FINGER_COLOURS[name]
-    return FALLBACK_COLOURS[sum(map(ord, name)) % len(FALLBACK_COLOURS)]
 
 
 def _mesh_archetype(mesh, colour, vertex_colours=None) -> rr.Mesh3D:
@@ -129,6 +113,8 @@ class RunRecording:
         if run.hand is None or run.object is None:
             raise GraspframeError(f"run {run.run_id}: recording needs its hand and object")
         self._hand = run.hand
+        # real finger -> "#rrggbb", the pictures' colours (graspframe/pictures/style.py)
+        self._finger_colours = style.finger_colours(run.hand.finger_of_link())
         self._object = run.object
         self.path = Path(run.out_dir) / RECORDING_FILE
         self.stream = rr.RecordingStream("graspframe", recording_id=run.run_id)
@@ -206,7 +192,9 @@ class RunRecording:
         links = []
         for meshes in robot_meshes(model):
             finger = finger_of_link.get(meshes.link)
-            colour = ARM_COLOUR if finger is None else finger_colour(finger)
+            colour = style.rgb255(
+                style.ARM_COLOUR if finger is None else self._finger_colour(finger)
+            )
             entity = f"world/robot/{meshes.link}"
             for i, surface in enumerate(meshes.visual):
                 self._log(f"{entity}/visual/{i}", _surface_archetype(surface, colour), static=True)
@@ -243,8 +231,11 @@ class RunRecording:
             static=True,
         )
 
+    def _finger_colour(self, finger: str) -> str:
+        return style.colour_of_finger(finger, self._finger_colours)
+
     def _on_execute_first_contact(self, data: dict) -> None:
-        colour = finger_colour(data["real_finger"])
+        colour = style.rgb255(self._finger_colour(data["real_finger"]))
         self._log(
             "world/first_contacts",
             rr.Points3D(
@@ -273,13 +264,12 @@ class RunRecording:
         for c in contacts:
             by_finger.setdefault(c.real_finger, []).append(c)
         for finger, items in by_finger.items():
+            colour = style.rgb255(self._finger_colour(finger))
             origins = [c.p + offset for c in items]
             vectors = [FORCE_ARROW_SCALE * c.f for c in items]
             self._log(
                 f"{root}/{finger}",
-                rr.Arrows3D(
-                    origins=origins, vectors=vectors, colors=[finger_colour(finger)] * len(items)
-                ),
+                rr.Arrows3D(origins=origins, vectors=vectors, colors=[colour] * len(items)),
                 static=True,
             )
 

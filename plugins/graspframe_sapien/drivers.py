@@ -64,9 +64,6 @@ class SapienArmDriver(ArmDriver):
     def joint_positions(self) -> NDArray[np.float64]:
         return self._access.positions()
 
-    def joint_velocities(self) -> NDArray[np.float64]:
-        return self._access.velocities()
-
 
 LATCH_WINDOW = 50  # [steps] the palm sensor latches this long after a reading (0.1 s)
 
