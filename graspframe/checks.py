@@ -159,7 +159,7 @@ def _hold_check(
     for trial in trials:
         result.measured.append(_trial_title(trial))
         result.measured += [f"  {line}" for line in hold_measures(trial)]
-        if pictures is not None and trial.snapshots:
+        if pictures is not None and trial.moments:
             path = _draw_trial(pictures, hand, trial)
             result.measured.append(f"  picture: {path}")
         if not trial.held:
@@ -184,7 +184,7 @@ def _draw_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> Path:
 
     robot = trial.checked.robot
     scene = scene_of_robot(robot.model, trial.checked.T_world_base, hand, trial.obj, 0.0)
-    frames = [Snapshot.from_event(data, robot.arm.joint_names) for data in trial.snapshots]
+    frames = [Snapshot.from_moment(m, robot.arm.joint_names) for m in trial.moments]
     verdict = "held" if trial.held else f"not held: {trial.outcome.failure_reason}"
     title = (
         f"{hand.name} alone, {trial.preshape} ({trial.grasp.value}) on its design object; {verdict}"

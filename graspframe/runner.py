@@ -314,13 +314,13 @@ def _execute_in_world(
 def _draw_snapshots(run_dir, checked, config, execution: Execution, grasp) -> Path | None:
     """snapshots.png in the run folder: the robot, object, table and contacts at first
     contact, hold and after the lift (None when nothing was captured)."""
-    if not execution.snapshots:
+    if not execution.moments:
         return None
     hand, arm, outcome = config.hand, checked.robot.arm, execution.outcome
     scene = scene_of_robot(
         checked.robot.model, checked.T_world_base, hand, config.object, config.table_height
     )
-    frames = [Snapshot.from_event(data, arm.joint_names) for data in execution.snapshots]
+    frames = [Snapshot.from_moment(m, arm.joint_names) for m in execution.moments]
     verdict = "held" if outcome.success else f"failed: {outcome.failure_reason}"
     title = (
         f"{hand.name} on {arm.name}: human {grasp.value} -> {checked.plan.preshape}, "

@@ -53,6 +53,7 @@ from graspframe.pictures.panel import legend_entries, render_panel
 from graspframe.pictures.render3d import Camera, Placed, View, box_corners, fit_view
 from graspframe.pictures.robot_scene import distance_to, table_soup
 from graspframe.pictures.sheet import compose, write_png
+from graspframe.strategy.execution import Moment
 from graspframe.transforms import R_from_axis_angle, inv_T, transform_points
 from graspframe.urdf_model import UrdfModel
 
@@ -124,13 +125,13 @@ class Snapshot:
     contact_fingers: Sequence[str] = ()
 
     @classmethod
-    def from_event(cls, data: Mapping, arm_joint_names: Sequence[str]) -> Snapshot:
-        """The moment an execute.snapshot event reported (its data, graspframe/events.py),
-        the arm's joints named in `arm_joint_names` order."""
-        q = dict(data["q_hand"])
-        if data["q_arm"] is not None:
-            q.update(zip(arm_joint_names, data["q_arm"], strict=True))
-        return cls.with_contacts(data["label"], q, data["T_world_object"], data["contacts"])
+    def from_moment(cls, moment: Moment, arm_joint_names: Sequence[str]) -> Snapshot:
+        """A moment of an execution (strategy/execution.py), the arm's joints named in
+        `arm_joint_names` order."""
+        q = dict(moment.q_hand)
+        if moment.q_arm is not None:
+            q.update(zip(arm_joint_names, moment.q_arm, strict=True))
+        return cls.with_contacts(moment.label, q, moment.T_world_object, moment.contacts)
 
     @classmethod
     def with_contacts(cls, label: str, q_by_joint, T_world_object, contacts: Sequence) -> Snapshot:

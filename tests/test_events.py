@@ -49,7 +49,7 @@ def test_observers_get_the_descriptions_of_the_run_and_declared_events(
         def graspframe_run_event(self, run, event):
             received.append((run, event))
 
-    def stops_after_the_world_is_built(self, world, motion, emit):
+    def stops_after_the_world_is_built(self, world, motion, log):
         raise RuntimeError("stop here")
 
     monkeypatch.setattr(runner.MethodStrategy, "grasp", stops_after_the_world_is_built)

@@ -131,7 +131,7 @@ def test_the_held_verdict_is_cached_with_the_contacts(tmp_path, monkeypatch):
 def test_a_run_says_when_its_human_reference_does_not_hold(tmp_path, monkeypatch, capsys):
     """The reporting: a reference that fails its held test is scored against all the
     same, and the run says so in result.json and in its summary."""
-    from graspframe import runner
+    from graspframe import scoring
     from graspframe.cli import main
 
     real = human_reference.human_reference
@@ -142,7 +142,7 @@ def test_a_run_says_when_its_human_reference_does_not_hold(tmp_path, monkeypatch
         verdict = HeldVerdict(after_lift=False, under_disturbance=None, failure=failure)
         return dataclasses.replace(reference, held=verdict)
 
-    monkeypatch.setattr(runner, "human_reference", failing_reference)
+    monkeypatch.setattr(scoring, "human_reference", failing_reference)
     args = ["run", "--hand", "barrett", "--grasp", "pinch", "--no-record"]
     assert main([*args, "--out", str(tmp_path)]) == 0
     out = " ".join(capsys.readouterr().out.split())

@@ -17,7 +17,7 @@ from graspframe.mounting import mount
 from graspframe.registry import default_registry
 from graspframe.runner import SCENE_OBJECT_XY
 from graspframe.strategy.arm_path import choose_plan
-from graspframe.strategy.execution import GraspOutcome, run_policy
+from graspframe.strategy.execution import ExecutionLog, GraspOutcome, run_policy
 from graspframe.strategy.executor import MethodStrategy
 from graspframe.strategy.held_test import HeldTest
 from graspframe.strategy.reference_poses import reference_placement
@@ -67,9 +67,9 @@ def test_the_contract_catches_a_backend_that_ignores_the_mounted_robot():
 
 def _run(
     hand_name: str, grasp: G, object_error=(0.0, 0.0), object_name: str | None = None
-) -> tuple[GraspOutcome, list[tuple[str, dict]], object]:
+) -> tuple[GraspOutcome, list[tuple[str, dict]], object, ExecutionLog]:
     """Plan on the KUKA and execute on the kinematic backend, the robot believing the
-    object `object_error` [m] (x, y) off where it stands; (outcome, events, plan)."""
+    object `object_error` [m] (x, y) off where it stands; (outcome, events, plan, log)."""
     hand, arm = REGISTRY.get_hand(hand_name), REGISTRY.get_arm("kuka")
     obj = REGISTRY.get_object(object_name) if object_name else REGISTRY.default_object_for(grasp)
     placement = reference_placement(obj, REGISTRY.get_hand("human").preshape_for(grasp))
@@ -88,6 +88,7 @@ def _run(
         timestep=TIMESTEP,
     )
     events: list[tuple[str, dict]] = []
+    log = ExecutionLog(emit=lambda kind, **data: events.append((kind.name, data)))
     with KinematicBackend().create_world(config) as world:
         motion = ArmMotion(world, checked.robot, checked.T_world_base)
         outcome = run_policy(
@@ -96,9 +97,9 @@ def _run(
             MethodStrategy(checked.plan, hand, obj),
             obj,
             HeldTest(),
-            emit=lambda kind, **data: events.append((kind.name, data)),
+            log,
         )
-    return outcome, events, checked.plan
+    return outcome, events, checked.plan, log
 
 
 def _stages(events) -> list[str]:
@@ -107,7 +108,7 @@ def _stages(events) -> list[str]:
 
 @pytest.mark.parametrize("hand_name", ["barrett", "karlsruhe"])
 def test_a_volar_grasp_stops_at_the_palm_contact_closes_and_lifts(hand_name):
-    outcome, events, plan = _run(hand_name, G.LARGE_DIAMETER)
+    outcome, events, plan, log = _run(hand_name, G.LARGE_DIAMETER)
     assert plan.volar
     assert _stages(events) == STAGES_VOLAR
     (approach,) = [data for kind, data in events if kind == "execute.approach"]
@@ -124,11 +125,14 @@ def test_a_volar_grasp_stops_at_the_palm_contact_closes_and_lifts(hand_name):
     assert "cannot push" in outcome.disturbance_skipped
     labels = [data["label"] for kind, data in events if kind == "execute.snapshot"]
     assert labels == ["first contact", "hold", "after lift"]
+    # The log keeps the same moments for pictures, with the contacts at each.
+    assert [moment.label for moment in log.moments] == labels
+    assert {c.real_finger for c in log.moments[1].contacts} == set(outcome.touching_fingers)
 
 
 def test_a_volar_approach_meeting_a_finger_first_corrects_towards_the_object():
     error = np.array([0.0, 0.03])  # the object stands 3 cm to the -y of the belief
-    outcome, events, _ = _run("barrett", G.LARGE_DIAMETER, object_error=error)
+    outcome, events, _, _ = _run("barrett", G.LARGE_DIAMETER, object_error=error)
     first_contacts = [data for kind, data in events if kind == "execute.first_contact"]
     corrections = [data for kind, data in events if kind == "execute.correction"]
     assert not first_contacts[0]["on_palm"] and first_contacts[-1]["on_palm"]
@@ -140,7 +144,7 @@ def test_a_volar_approach_meeting_a_finger_first_corrects_towards_the_object():
 
 
 def test_a_non_volar_grasp_approaches_without_feedback():
-    outcome, events, plan = _run("barrett", G.POWER_SPHERE)
+    outcome, events, plan, _ = _run("barrett", G.POWER_SPHERE)
     assert not plan.volar
     assert "execute.first_contact" not in _stages(events)
     (approach,) = [data for kind, data in events if kind == "execute.approach"]
@@ -151,7 +155,7 @@ def test_a_non_volar_grasp_approaches_without_feedback():
 
 
 def test_a_volar_approach_that_meets_nothing_reports_it_and_fails():
-    outcome, events, _ = _run("barrett", G.LARGE_DIAMETER, object_error=(0.0, 0.25))
+    outcome, events, _, _ = _run("barrett", G.LARGE_DIAMETER, object_error=(0.0, 0.25))
     stages = _stages(events)
     assert "execute.no_contact" in stages and "execute.first_contact" not in stages
     assert not outcome.success
@@ -189,7 +193,7 @@ def test_fingers_stop_on_the_object_and_the_barrett_clutch_breaks_away():
 
 def test_the_kinematic_world_is_deterministic():
     def final_state():
-        outcome, _, _ = _run("barrett", G.POWER_SPHERE)
+        outcome, _, _, _ = _run("barrett", G.POWER_SPHERE)
         return outcome.T_world_object_at_hold, [c.p for c in outcome.contacts]
 
     (T_first, points_first), (T_second, points_second) = final_state(), final_state()

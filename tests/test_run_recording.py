@@ -150,7 +150,7 @@ def test_no_record_writes_no_recording(tmp_path):
 
 
 def test_a_run_that_raises_midway_leaves_a_readable_recording(tmp_path, monkeypatch):
-    def broken(self, world, motion, emit):
+    def broken(self, world, motion, log):
         motion.move_palm_to(self.plan.T_world_palm_via)  # some motion gets recorded
         raise RuntimeError("hand controller lost")
 

@@ -6,9 +6,9 @@ it (the arm, or the floating base of a hand alone) and runs `run_policy`: the gr
 policy brings the hand to the hold (the robot: the method's strategy,
 graspframe/strategy/executor.py; the human reference: its open-loop closing,
 graspframe/strategy/human_reference.py), then the one held test (held_test.py) judges
-the grasp, and the moments "hold" and "after lift" are recorded as execute.snapshot
-events for pictures. Every step is reported through `emit(kind, **data)` with the
-"execute.*" kinds of graspframe/events.py.
+the grasp. An `ExecutionLog` goes along: observers hear every step through its
+`emit(kind, **data)` (the "execute.*" kinds of graspframe/events.py), and it keeps the
+`Moment`s pictures are drawn from (the policy's own, then "hold" and "after lift").
 
 A policy that the arm cannot carry out (a pose out of reach, a line through a
 singularity: `MotionError`) ends the grasp where it stands; the outcome says why.
@@ -48,11 +48,58 @@ class Grip:
     goals: tuple[tuple[float, float, float], ...] = ()
 
 
+@dataclass(frozen=True)
+class Moment:
+    """The robot, the object and the contacts at one moment of a grasp, for pictures.
+
+    q_arm: [rad] the arm's joints in its `joint_names` order (the floating base's for a
+    hand alone); q_hand: [rad or m] hand joints by name; poses in the world frame;
+    contacts in the world frame.
+    """
+
+    label: str
+    q_arm: NDArray[np.float64] | None
+    q_hand: Mapping[str, float]
+    T_world_palm: NDArray[np.float64]
+    T_world_object: NDArray[np.float64]
+    contacts: tuple[Contact, ...]
+
+
+@dataclass
+class ExecutionLog:
+    """What an execution reports as it goes: events for the observers (`emit`) and the
+    moments it keeps for pictures (`snapshot`)."""
+
+    emit: Emit = field(default=lambda kind, **data: None)
+    moments: list[Moment] = field(default_factory=list)
+
+    def snapshot(self, world: World, label: str, contacts: list[Contact]) -> None:
+        """Keep the robot's joints, the object and `contacts` now, and tell observers."""
+        moment = Moment(
+            label=label,
+            q_arm=None if world.arm is None else world.arm.joint_positions(),
+            q_hand=world.hand.joint_positions(),
+            T_world_palm=world.hand.T_world_palm(),
+            T_world_object=held_test.object_probe(world).T_world_object(),
+            contacts=tuple(contacts),
+        )
+        self.moments.append(moment)
+        self.emit(
+            events.EXECUTE_SNAPSHOT,
+            label=moment.label,
+            q_arm=moment.q_arm,
+            q_hand=moment.q_hand,
+            T_world_palm=moment.T_world_palm,
+            T_world_object=moment.T_world_object,
+            contacts=list(moment.contacts),
+        )
+
+
 class GraspPolicy(Protocol):
     """Brings the hand from wherever the world starts to the hold (closed on the object,
-    settled); the held test follows."""
+    settled), reporting to `log`; the held test follows."""
 
-    def grasp(self, world: World, motion: ArmMotion, emit: Emit) -> Grip: ...
+    def grasp(self, world: World, motion: ArmMotion, log: ExecutionLog) -> Grip: ...
 
 
 @dataclass(frozen=True)
@@ -135,11 +182,11 @@ class GraspOutcome:
 
 @dataclass(frozen=True)
 class Execution:
-    """An executed grasp: its outcome and the execute.snapshot events' data (the robot's
-    joints, the object and the contacts at its moments, for pictures)."""
+    """An executed grasp: its outcome and its moments (the robot's joints, the object and
+    the contacts, for pictures), in the order they happened."""
 
     outcome: GraspOutcome
-    snapshots: tuple[dict, ...] = field(default_factory=tuple)
+    moments: tuple[Moment, ...] = ()
 
 
 def execute(
@@ -162,20 +209,13 @@ def execute(
         raise ValueError("execute needs the mounted robot (config.robot)")
     if config.object is None:
         raise ValueError("execute needs an object to grasp (config.object)")
-    snapshots: list[dict] = []
-
-    def forward(kind, **data) -> None:
-        if kind is events.EXECUTE_SNAPSHOT:
-            snapshots.append(data)
-        if emit is not None:
-            emit(kind, **data)
-
+    log = ExecutionLog() if emit is None else ExecutionLog(emit)
     with backend.create_world(config) as world:
         if on_world is not None:
             on_world(world)
         motion = ArmMotion(world, config.robot, config.T_world_arm_base, on_cycle=on_cycle)
-        outcome = run_policy(world, motion, policy, config.object, held, forward)
-    return Execution(outcome, tuple(snapshots))
+        outcome = run_policy(world, motion, policy, config.object, held, log)
+    return Execution(outcome, tuple(log.moments))
 
 
 def run_policy(
@@ -184,14 +224,15 @@ def run_policy(
     policy: GraspPolicy,
     obj: ObjectDescription,
     held: HeldTest,
-    emit: Emit | None = None,
+    log: ExecutionLog | None = None,
 ) -> GraspOutcome:
     """Grasp with `policy` in an existing world, then judge the grasp with `held`: the
     procedure of `execute`, for callers that hold their own world."""
-    emit = emit or (lambda kind, **data: None)
+    log = log or ExecutionLog()
+    emit = log.emit
     probe = held_test.object_probe(world)  # refuses a world without an object
     try:
-        grip = policy.grasp(world, motion, emit)
+        grip = policy.grasp(world, motion, log)
     except MotionError as exc:
         emit(events.EXECUTE_ABORTED, reason=str(exc))
         return GraspOutcome(
@@ -209,7 +250,7 @@ def run_policy(
         n_contacts=len(contacts),
         contacts=contacts,
     )
-    snapshot(world, emit, "hold", contacts)
+    log.snapshot(world, "hold", contacts)
 
     def after_lift(lifted: LiftResult) -> None:
         emit(
@@ -219,7 +260,7 @@ def run_policy(
             fingers=sorted({c.real_finger for c in lifted.contacts}),
             **lifted.motion.to_dict(),
         )
-        snapshot(world, emit, "after lift", lifted.contacts)
+        log.snapshot(world, "after lift", lifted.contacts)
 
     verdict = held.run(world, motion, obj, after_lift)
     if verdict.disturbance:
@@ -232,16 +273,3 @@ def run_policy(
     elif verdict.after_lift and held.disturb:  # the backend cannot push
         emit(events.EXECUTE_DISTURBANCE, skipped=verdict.disturbance_skipped)
     return GraspOutcome(contacts, T_world_object_at_hold, grip, verdict)
-
-
-def snapshot(world: World, emit: Emit, label: str, contacts: list[Contact]) -> None:
-    """The robot's joints, the object and the contacts now, for pictures."""
-    emit(
-        events.EXECUTE_SNAPSHOT,
-        label=label,
-        q_arm=None if world.arm is None else world.arm.joint_positions(),
-        q_hand=world.hand.joint_positions(),
-        T_world_palm=world.hand.T_world_palm(),
-        T_world_object=held_test.object_probe(world).T_world_object(),
-        contacts=contacts,
-    )

@@ -19,14 +19,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe import events
-from graspframe.contacts import Contact
 from graspframe.errors import MotionError
 from graspframe.grasps import PALM
 from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import World
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
-from graspframe.strategy.execution import Emit, Grip, snapshot
+from graspframe.strategy.execution import ExecutionLog, Grip
 from graspframe.strategy.held_test import HeldTest
 from graspframe.strategy.planner import GraspPlan
 from graspframe.strategy.segments import PalmPath, palm_path
@@ -103,8 +102,8 @@ class MethodStrategy:
     obj: ObjectDescription
     params: ExecutorParams = ExecutorParams()
 
-    def grasp(self, world: World, motion: ArmMotion, emit: Emit) -> Grip:
-        return _Strategy(self.plan, world, motion, self.hand, self.obj, self.params, emit).run()
+    def grasp(self, world: World, motion: ArmMotion, log: ExecutionLog) -> Grip:
+        return _Strategy(self.plan, world, motion, self.hand, self.obj, self.params, log).run()
 
 
 @dataclass
@@ -117,10 +116,11 @@ class _Strategy:
     hand: HandDescription
     obj: ObjectDescription
     p: ExecutorParams
-    emit: Emit
+    log: ExecutionLog
 
     def __post_init__(self) -> None:
         self.path = planned_path(self.plan, self.p)
+        self.emit = self.log.emit
 
     def run(self) -> Grip:
         preshape = self.hand.preshape(self.plan.preshape)
@@ -164,7 +164,7 @@ class _Strategy:
         self.emit(
             events.EXECUTE_APPROACH, travel=result.travel, stopped=False, cycles=result.cycles
         )
-        self._snapshot("approach end", self.world.hand.contacts())
+        self.log.snapshot(self.world, "approach end", self.world.hand.contacts())
         return any(c.real_finger == PALM for c in self.world.hand.contacts())
 
     def _approach_volar(self) -> tuple[int, bool, list[list[float]]]:
@@ -189,7 +189,7 @@ class _Strategy:
             contact = result.first_contact
             if contact is None:  # the move was not stopped by a contact
                 emit(events.EXECUTE_NO_CONTACT, goal=T_goal[:3, 3])
-                self._snapshot("approach end", [])
+                self.log.snapshot(self.world, "approach end", [])
                 return corrections, False, goals
             emit(
                 events.EXECUTE_FIRST_CONTACT,
@@ -200,11 +200,11 @@ class _Strategy:
             )
             centring = self._centring_shift() if result.palm_touched else None
             if result.palm_touched and centring is None:
-                self._snapshot("first contact", self.world.hand.contacts())
+                self.log.snapshot(self.world, "first contact", self.world.hand.contacts())
                 return corrections, True, goals
             if corrections >= p.max_corrections:
                 emit(events.EXECUTE_CORRECTIONS_EXHAUSTED, corrections=corrections)
-                self._snapshot("first contact", self.world.hand.contacts())
+                self.log.snapshot(self.world, "first contact", self.world.hand.contacts())
                 return corrections, result.palm_touched, goals
             # Retreat along the approach line, move the goal, go again: towards a finger
             # contact (the method), or by the palm contact's offset from the grasp centre.
@@ -326,6 +326,3 @@ class _Strategy:
         if np.linalg.norm(shift_world) <= CENTRING_TOLERANCE:
             return None
         return shift_world
-
-    def _snapshot(self, label: str, contacts: list[Contact]) -> None:
-        snapshot(self.world, self.emit, label, contacts)

@@ -45,7 +45,7 @@ from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.results import read_json_file, write_json
 from graspframe.snapshots import PICTURE_STYLE, Snapshot, draw_snapshots, scene_of_robot
-from graspframe.strategy.execution import Emit, Grip, execute
+from graspframe.strategy.execution import ExecutionLog, Grip, execute
 from graspframe.strategy.executor import APPROACH_SPEED  # the robots' non-volar approach
 from graspframe.strategy.held_test import HeldTest, HeldVerdict
 from graspframe.strategy.reference_poses import reference_placement
@@ -159,7 +159,7 @@ class HumanClosing:
     posture: HandPreshape
     approach_direction_world: NDArray[np.float64]
 
-    def grasp(self, world: World, motion: ArmMotion, emit: Emit) -> Grip:
+    def grasp(self, world: World, motion: ArmMotion, log: ExecutionLog) -> Grip:
         world.hand.set_joint_targets(self.posture.open_q)
         opening_time = _travel_time(self.human, {}, self.posture.open_q) + OPENING_SETTLE_TIME
         world.step(round(opening_time / world.timestep))
@@ -207,7 +207,7 @@ def simulate_human_grasp(
     contacts = tuple(c.in_object_frame(outcome.T_world_object_at_hold) for c in outcome.contacts)
     reference = HumanReference(grasp, obj.name, contacts, "simulated", verdict, picture)
     if picture is not None:
-        moments = [Snapshot.from_event(data, robot.arm.joint_names) for data in execution.snapshots]
+        moments = [Snapshot.from_moment(m, robot.arm.joint_names) for m in execution.moments]
         _draw(picture, reference, verdict, robot, config, moments)
     return reference
 

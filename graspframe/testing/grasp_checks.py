@@ -34,7 +34,7 @@ from graspframe.transforms import make_T
 
 if TYPE_CHECKING:  # the executor imports the planner, which imports this package's users
     from graspframe.strategy.arm_path import CheckedPlan
-    from graspframe.strategy.execution import GraspOutcome
+    from graspframe.strategy.execution import GraspOutcome, Moment
 
 OPPOSED_MAX_GAP = 0.015  # [m] largest gap left between opposing fingers, closed in free space
 OPEN_MIN_GAP = 0.03  # [m] an undeclared pair counts as opposing only from this far apart
@@ -179,9 +179,9 @@ def _hand_alone(
     backend: Backend,
     obj: ObjectDescription | None = None,
     disturb: bool = True,
-):
-    """(GraspOutcome, the execute.snapshot events' data, the CheckedPlan on the floating
-    base) of `hand_alone_grasp`."""
+) -> tuple[GraspOutcome, tuple[Moment, ...], CheckedPlan]:
+    """(the outcome, its moments, the CheckedPlan on the floating base) of
+    `hand_alone_grasp`."""
     from graspframe.strategy.arm_path import floating_plan
     from graspframe.strategy.execution import execute
     from graspframe.strategy.executor import MethodStrategy
@@ -204,14 +204,14 @@ def _hand_alone(
     )
     policy = MethodStrategy(checked.plan, hand, obj)
     execution = execute(backend, config, policy, HeldTest(disturb=disturb))
-    return execution.outcome, list(execution.snapshots), checked
+    return execution.outcome, execution.moments, checked
 
 
 @dataclass(frozen=True)
 class HoldTrial:
     """The hand alone grasping a preshape's design object: what was grasped, the real
     fingers meant to touch it (its opposed pairs', else every finger), what happened
-    (`outcome`), and for pictures the execute.snapshot events' data (`snapshots`) and
+    (`outcome`), and for pictures its moments (`moments`) and
     the plan on the floating base it ran (`checked`: a CheckedPlan)."""
 
     grasp: HumanGrasp
@@ -219,7 +219,7 @@ class HoldTrial:
     obj: ObjectDescription
     fingers: tuple[str, ...]
     outcome: GraspOutcome
-    snapshots: tuple[dict, ...]
+    moments: tuple[Moment, ...]
     checked: CheckedPlan
 
     @property
@@ -244,12 +244,10 @@ def hold_trials(
         tried.add(key)
         obj = design_object(preshape)
         progress(f"{preshape_name} ({grasp.value}): the hand alone on its design object")
-        outcome, snapshots, checked = _hand_alone(hand, grasp, backend, obj)
+        outcome, moments, checked = _hand_alone(hand, grasp, backend, obj)
         fingers = {f for pair in preshape.opposed for f in pair} or set(hand.real_fingers)
         meant = tuple(f for f in hand.real_fingers if f in fingers and f != PALM)
-        trials.append(
-            HoldTrial(grasp, preshape_name, obj, meant, outcome, tuple(snapshots), checked)
-        )
+        trials.append(HoldTrial(grasp, preshape_name, obj, meant, outcome, moments, checked))
     return trials
 
 
