@@ -184,7 +184,8 @@ def run(
     With no --grasp and no --image, the bundled demo image is classified."""
     from graspframe.commands.run_summary import print_run_summary
     from graspframe.grasps import HumanGrasp
-    from graspframe.runner import RunRequest, run_grasp
+    from graspframe.run_request import RunRequest
+    from graspframe.runner import run_grasp
 
     if grasp is not None and (image is not None or scene is not None):
         raise InputError("pass either --grasp (no vision) or --image with --scene, not both")

@@ -30,7 +30,7 @@ from graspframe.strategy.execution import Execution, GraspOutcome
 from graspframe.strategy.held_test import HeldVerdict
 
 if TYPE_CHECKING:  # the runner imports this module
-    from graspframe.runner import RunRequest
+    from graspframe.run_request import RunRequest
 
 RESULT_FORMAT = "graspframe.result/2"
 

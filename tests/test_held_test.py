@@ -8,7 +8,8 @@ import pytest
 from graspframe.errors import InputError
 from graspframe.grasps import HumanGrasp
 from graspframe.registry import default_registry
-from graspframe.runner import RunRequest, run_grasp
+from graspframe.run_request import RunRequest
+from graspframe.runner import run_grasp
 from graspframe.strategy.held_test import HeldTest, InHandMotion
 
 

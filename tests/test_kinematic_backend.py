@@ -9,13 +9,13 @@ import math
 import numpy as np
 import pytest
 
+from graspframe.defaults import SCENE_OBJECT_XY
 from graspframe.grasps import PALM
 from graspframe.grasps import HumanGrasp as G
 from graspframe.hal import ObjectDescription, WorldConfig
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.mounting import mount
 from graspframe.registry import default_registry
-from graspframe.runner import SCENE_OBJECT_XY
 from graspframe.strategy.arm_path import choose_plan
 from graspframe.strategy.execution import ExecutionLog, GraspOutcome, run_policy
 from graspframe.strategy.executor import MethodStrategy

@@ -425,7 +425,9 @@ def test_hand_alone_holds_each_grasp_on_its_default_object(grasp, tmp_path):
     a free base, placed from the human reference grasp, holds the grasp's own object
     through the lift and the disturbance test (docs/robots/barrett.md, "Held")."""
     pytest.importorskip("sapien")
-    from graspframe.runner import MOUNT_FLOATING, RunRequest, run_grasp
+    from graspframe.defaults import MOUNT_FLOATING
+    from graspframe.run_request import RunRequest
+    from graspframe.runner import run_grasp
 
     request = RunRequest(
         hand="barrett", grasp=grasp, mount=MOUNT_FLOATING, record=False, out_root=str(tmp_path)

@@ -580,10 +580,10 @@ def hand_alone_run(grasp: HumanGrasp, object_name: str | None = None):
     the human reference palm pose, the hand on the free base, the object on the table."""
     from graspframe_sapien.world import SapienBackend
 
+    from graspframe.defaults import SCENE_OBJECT_XY, TABLE_HEIGHT
     from graspframe.hal.drivers import WorldConfig
     from graspframe.motion.arm_motion import ArmMotion
     from graspframe.registry import default_registry
-    from graspframe.runner import SCENE_OBJECT_XY, TABLE_HEIGHT
     from graspframe.strategy.arm_path import floating_plan
     from graspframe.strategy.execution import run_policy
     from graspframe.strategy.executor import MethodStrategy

@@ -13,11 +13,13 @@ import numpy as np
 import pytest
 
 from graspframe.cli import main
+from graspframe.defaults import MOUNTS, SCENE_OBJECT_XY
 from graspframe.grasps import HumanGrasp
 from graspframe.hal import AdapterShape
 from graspframe.mounting import mount
 from graspframe.registry import default_registry
-from graspframe.runner import MOUNTS, SCENE_OBJECT_XY, RunRequest, run_grasp
+from graspframe.run_request import RunRequest
+from graspframe.runner import run_grasp
 from graspframe.strategy.arm_path import choose_plan, path_problem
 from graspframe.strategy.executor import CENTRING_TOLERANCE
 from graspframe.strategy.hand_geometry import closing_configurations, lowest_hand_point

@@ -13,7 +13,8 @@ from conftest import LEAP_HAND_SPEC, PANDA_SPEC
 from graspframe.checks import check_hand_command
 from graspframe.grasps import HumanGrasp
 from graspframe.registry import default_registry
-from graspframe.runner import RunRequest, run_grasp
+from graspframe.run_request import RunRequest
+from graspframe.runner import run_grasp
 
 pytestmark = pytest.mark.slow
 

@@ -69,7 +69,8 @@ def experiment_b_errors(rho: float, directions: int) -> list[tuple[str, tuple[fl
 
 def run_trial(spec: TrialSpec) -> dict:
     """Run the grasp of `spec` in this process; the row of numbers for the summary."""
-    from graspframe.runner import RunRequest, run_grasp
+    from graspframe.run_request import RunRequest
+    from graspframe.runner import run_grasp
 
     started = time.perf_counter()
     request = RunRequest(
