@@ -22,6 +22,7 @@ from graspframe.motion.collision import Obstacle, RobotCollisionChecker, object_
 from graspframe.registry import default_registry
 from graspframe.shapes import object_collision_meshes, object_mesh, primitive_mesh
 from graspframe.strategy import human_reference
+from graspframe.strategy.held_test import HeldTest
 from graspframe.transforms import make_T, transform_points
 from graspframe.urdf_model import read_model
 
@@ -239,8 +240,9 @@ def test_the_simulator_builds_the_pieces_with_the_objects_mass_and_inertia(tmp_p
 def test_the_human_reference_key_follows_the_mesh_content(tmp_path):
     human = REGISTRY.get_hand("human")
     first = ObjectDescription("box_mesh", "mesh", mesh_path=_box_file(tmp_path), mass=0.2)
-    key = human_reference._cache_key(HumanGrasp.PINCH, first, human)
+    backend, held = SapienBackend(), HeldTest()
+    key = human_reference._cache_key(HumanGrasp.PINCH, first, human, backend, held)
     larger = trimesh.creation.box(extents=(0.05, 0.06, 0.10))
     larger.export(tmp_path / "box.obj")  # the same path, another mesh
     second = ObjectDescription("box_mesh", "mesh", mesh_path=tmp_path / "box.obj", mass=0.2)
-    assert human_reference._cache_key(HumanGrasp.PINCH, second, human) != key
+    assert human_reference._cache_key(HumanGrasp.PINCH, second, human, backend, held) != key
