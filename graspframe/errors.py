@@ -45,3 +45,7 @@ class MotionError(GraspframeError):
 
 class NotAvailableError(GraspframeError):
     """A feature that this version of graspframe does not provide yet."""
+
+
+class NoContactsError(GraspframeError):
+    """There are no (force-bearing) contacts, so there are no virtual fingers to build."""
