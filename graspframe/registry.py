@@ -8,7 +8,7 @@ GRASPFRAME_STRICT_PLUGINS=1 re-raises the first failure instead; GRASPFRAME_DISA
 takes a comma-separated list of plugin names not to load.
 
 Core code asks the registry (`get_hand("karlsruhe")`), never `pm.hook` directly. Where
-a hand or an arm is asked for, a spec file path (`my_hand.toml`, graspframe/specs.py)
+a hand or an arm is asked for, a spec file path (`my_hand.toml`, graspframe/specs/)
 may stand in for a registered name.
 """
 
