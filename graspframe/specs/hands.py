@@ -13,6 +13,7 @@ import numpy as np
 from graspframe.errors import DescriptionError
 from graspframe.grasps import PALM, HumanGrasp
 from graspframe.hal.descriptions import (
+    FINGERTIP_FRAMES_KEY,
     Coupling,
     DesignObject,
     HandDescription,
@@ -195,7 +196,7 @@ def read_hand(reader: SpecReader, data: Mapping[str, Any]) -> HandDescription:
         couplings=tuple(couplings),
         mass=reader.number(data, "mass", "the spec", 0.0),
         summary=str(data.get("summary", "")),
-        extras={"fingertip_frames": dict(tips), "spec": str(reader.path)},
+        extras={FINGERTIP_FRAMES_KEY: dict(tips), "spec": str(reader.path)},
         packages=packages,
         frames=frames,
     )

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import GraspframeError
+from graspframe.errors import DescriptionError, GraspframeError
 from graspframe.grasps import PALM, HumanGrasp
 from graspframe.hal.classifier import Classifier, HumanGraspEstimate
 from graspframe.hal.descriptions import (
@@ -181,12 +181,31 @@ def hand_problems(hand: HandDescription) -> list[str]:
     named_links += [
         (f"link of real finger {f!r}", link) for f, ls in hand.real_fingers.items() for link in ls
     ]
+    tip_problems, tips = _fingertip_problems(hand)
+    problems += tip_problems
+    named_links += [(f"fingertip frame of {finger!r}", frame) for finger, frame in tips.items()]
     problems += _model_problems(hand, hand.joints, named_links)
     # The palm direction needs only the model, its palm frame and palm links: check it
     # also when the joints are wrong, so that one run names every defect.
     if _model_has_links(hand, {hand.palm_frame, *hand.real_fingers.get(PALM, ())}):
         problems += palm_direction_problems(hand)
     return problems
+
+
+def _fingertip_problems(hand: HandDescription) -> tuple[list[str], dict[str, str]]:
+    """(problems, fingertip frames): the fingertip frames the hand names
+    (`HandDescription.fingertip_frames`) must belong to its real fingers, not the palm."""
+    try:
+        tips = hand.fingertip_frames
+    except DescriptionError as exc:
+        return [str(exc)], {}
+    problems = [
+        f"fingertip frame {frame!r} is given for {finger!r}, which is not a real finger "
+        f"(real fingers: {', '.join(f for f in hand.real_fingers if f != PALM)})"
+        for finger, frame in tips.items()
+        if finger not in hand.real_fingers or finger == PALM
+    ]
+    return problems, tips
 
 
 def _model_has_links(hand: HandDescription, links: set[str]) -> bool:

@@ -28,6 +28,7 @@ import math
 
 from graspframe.grasps import PALM, THUMB, HumanGrasp
 from graspframe.hal.descriptions import (
+    FINGERTIP_FRAMES_KEY,
     Coupling,
     DesignObject,
     DriveGains,
@@ -282,6 +283,6 @@ HUMAN = HandDescription(
     extras={
         "hand_length": HAND_LENGTH,
         "side": "right",
-        "fingertip_links": tuple(f"hh_{digit}_tip" for digit in DIGITS),
+        FINGERTIP_FRAMES_KEY: {digit: f"hh_{digit}_tip" for digit in DIGITS},
     },
 )
