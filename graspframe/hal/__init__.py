@@ -13,6 +13,7 @@ from graspframe.hal.descriptions import (
     Mounting,
 )
 from graspframe.hal.drivers import ArmDriver, Backend, HandDriver, ObjectProbe, World, WorldConfig
+from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.hal.objects import ObjectDescription
 
 __all__ = [
@@ -29,6 +30,7 @@ __all__ = [
     "HandPreshape",
     "HumanGraspEstimate",
     "JointSpec",
+    "MountedRobot",
     "Mounting",
     "Neighbour",
     "ObjectDescription",

@@ -19,9 +19,9 @@ from numpy.typing import NDArray
 from graspframe.contacts import Contact
 from graspframe.errors import GraspframeError, MotionError
 from graspframe.hal.drivers import World
+from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.motion.ik import IkSolver, describe_pose
 from graspframe.motion.trajectory import JointLimits, OnlineTrajectory
-from graspframe.mounting import MountedRobot
 from graspframe.transforms import inv_T
 
 CONTROL_PERIOD = 0.01  # [s] 100 Hz arm control

@@ -35,7 +35,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from graspframe.errors import GraspframeError, MotionError
-from graspframe.mounting import MountedRobot
+from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.transforms import as_pose, inv_T, rpy_from_R
 
 POSITION_TOLERANCE = 1e-4  # [m] iterate until the palm position error is below this
