@@ -16,7 +16,7 @@ class GraspframeError(Exception):
 class UnknownNameError(GraspframeError, KeyError):
     """A name (hand, arm, grasp, object, ...) that is not known; lists the known ones."""
 
-    def __init__(self, kind: str, name: str, known: Iterable[str]):
+    def __init__(self, kind: str, name: str, known: Iterable[str]) -> None:
         self.kind = kind
         self.name = name
         self.known = sorted(known)

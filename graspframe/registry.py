@@ -142,7 +142,7 @@ def _one_line(exc: BaseException) -> str:
 class Registry:
     """Registered hands, arms, backends, classifiers and objects, with their origin."""
 
-    def __init__(self, strict: bool | None = None):
+    def __init__(self, strict: bool | None = None) -> None:
         self.strict = _strict_from_env() if strict is None else strict
         self._pm = pluggy.PluginManager("graspframe")
         self._pm.add_hookspecs(hookspecs)

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from graspframe.errors import DescriptionError, UnknownNameError
 from graspframe.grasps import HumanGrasp
@@ -109,7 +110,7 @@ class DesignObject:
     axis: tuple[float, float, float] | None = None
     length: float | None = None
 
-    def extent_along(self, n_palm) -> float:
+    def extent_along(self, n_palm: ArrayLike) -> float:
         """[m] half-extent of the object along the unit palm-frame direction n_palm."""
         n = np.asarray(n_palm, dtype=float)
         n = n / np.linalg.norm(n)

@@ -73,7 +73,7 @@ class ArmMotion:
         control_period: float = CONTROL_PERIOD,
         on_cycle: Callable[[ArmMotion], None] | None = None,
         ik: IkSolver | None = None,
-    ):
+    ) -> None:
         if world.arm is None:
             raise GraspframeError("ArmMotion needs a world with an arm")
         self.world = world
