@@ -16,7 +16,7 @@ class GraspframeError(Exception):
 class UnknownNameError(GraspframeError, KeyError):
     """A name (hand, arm, grasp, object, ...) that is not known; lists the known ones."""
 
-    def __init__(self, kind: str, name: str, known: Iterable[str]):
+    def __init__(self, kind: str, name: str, known: Iterable[str]) -> None:
         self.kind = kind
         self.name = name
         self.known = sorted(known)
@@ -46,3 +46,7 @@ class MotionError(GraspframeError):
 class NotAvailableError(GraspframeError):
     """A feature that cannot run here: an optional part is not installed (an extra, a
     viewer program), or this version of graspframe does not provide it yet."""
+
+
+class NoContactsError(GraspframeError):
+    """There are no (force-bearing) contacts, so there are no virtual fingers to build."""

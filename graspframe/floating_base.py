@@ -18,7 +18,8 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.hal.descriptions import ArmDescription, DriveGains, JointSpec
+from graspframe.hal.descriptions import ArmDescription, DriveGains, HandDescription, JointSpec
+from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.transforms import inv_T
 
 NAME = "floating"
@@ -79,8 +80,10 @@ def T_world_base_for(
     return np.asarray(T_world_palm, dtype=float) @ inv_T(T_flange_palm)
 
 
-def mount_floating(hand, T_world_palm: NDArray[np.float64]):
-    """(MountedRobot, T_world_base): `hand` (a HandDescription) on the floating base, and
+def mount_floating(
+    hand: HandDescription, T_world_palm: NDArray[np.float64]
+) -> tuple[MountedRobot, NDArray[np.float64]]:
+    """(MountedRobot, T_world_base): `hand` on the floating base, and
     the base pose whose home puts its palm at T_world_palm."""
     from graspframe.mounting import mount
     from graspframe.robot_model import CollisionModel

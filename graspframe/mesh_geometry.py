@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from graspframe.convex import ConvexPieces, convex_pieces, load_mesh
 from graspframe.transforms import inv_T, make_T, transform_points
@@ -48,6 +48,8 @@ SUPPORT_TOLERANCE = 0.001  # [m] points this close to the lowest one carry the o
 SUPPORT_MARGIN = 0.001  # [m] the centroid must lie this far inside the support polygon
 SYMMETRY_TOLERANCE = 0.10  # relative spread of the horizontal extent of a symmetric mesh
 SYMMETRY_DIRECTIONS = 72
+# (modification time [ns], size [B]) of each file: what identifies their content cheaply
+Stamp = tuple[tuple[int, int], ...]
 
 
 @dataclass(frozen=True)
@@ -96,7 +98,7 @@ class MeshGeometry:
             digest.update(np.ascontiguousarray(piece.vertices, dtype=float).tobytes())
         return digest.hexdigest()
 
-    def extent_along(self, n_object) -> float:
+    def extent_along(self, n_object: ArrayLike) -> float:
         """[m] support function of the pieces: the farthest any of them reaches from the
         centroid along the unit direction n_object (object frame)."""
         n = np.asarray(n_object, dtype=float)
@@ -143,7 +145,9 @@ def union_mass_properties(
     return _Solid(len(index[0]) * pitch**3, centroid, inertia)
 
 
-def _mark_inside(piece: trimesh.Trimesh, centres: list[NDArray[np.float64]], inside) -> None:
+def _mark_inside(
+    piece: trimesh.Trimesh, centres: list[NDArray[np.float64]], inside: NDArray[np.bool_]
+) -> None:
     """Set the cells of `inside` whose centres lie in the convex piece, column by column
     along z: each column's entry and exit heights follow from the piece's face planes."""
     low, high = piece.bounds
@@ -186,7 +190,9 @@ def rests_upright(points: NDArray[np.float64], centroid: NDArray[np.float64]) ->
     return margin >= SUPPORT_MARGIN
 
 
-def rest_rotation(points: NDArray[np.float64], centroid: NDArray[np.float64]):
+def rest_rotation(
+    points: NDArray[np.float64], centroid: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], bool]:
     """(R_rest_mesh, upright_as_scanned): the rotation taking the mesh frame to its rest
     pose on the table (identity when it stands as scanned), see the module docstring."""
     if rests_upright(points, centroid):
@@ -214,7 +220,7 @@ def _sha256(paths: Sequence[Path | None], scale: Sequence[float]) -> str:
 
 @functools.lru_cache(maxsize=32)
 def _geometry(
-    mesh_path: Path, given_pieces: Path | None, scale: tuple[float, float, float], _stamp
+    mesh_path: Path, given_pieces: Path | None, scale: tuple[float, float, float], _stamp: Stamp
 ) -> MeshGeometry:
     convex = convex_pieces(mesh_path, scale, given_pieces)
     solid = union_mass_properties(convex.pieces)
@@ -234,7 +240,7 @@ def _geometry(
     )
 
 
-def _stamp(paths: Sequence[Path | None]) -> tuple:
+def _stamp(paths: Sequence[Path | None]) -> Stamp:
     """What identifies the files' content cheaply (a changed file is read again)."""
     stamps = []
     for path in paths:
@@ -256,7 +262,7 @@ def mesh_geometry(
 
 @functools.lru_cache(maxsize=8)
 def _display_mesh(
-    mesh_path: Path, scale: tuple[float, float, float], T_mesh_object_key: bytes, _stamp
+    mesh_path: Path, scale: tuple[float, float, float], T_mesh_object_key: bytes, _stamp: Stamp
 ) -> trimesh.Trimesh:
     T_mesh_object = np.frombuffer(T_mesh_object_key).reshape(4, 4)
     mesh = load_mesh(mesh_path, scale)
@@ -264,7 +270,9 @@ def _display_mesh(
     return mesh
 
 
-def display_mesh(geometry: MeshGeometry, mesh_path: Path, scale: Sequence[float]):
+def display_mesh(
+    geometry: MeshGeometry, mesh_path: Path, scale: Sequence[float]
+) -> trimesh.Trimesh:
     """The visual mesh in the object frame [m] (a copy; cached per process)."""
     mesh_path = Path(mesh_path).resolve()
     s = (float(scale[0]), float(scale[1]), float(scale[2]))
@@ -273,7 +281,9 @@ def display_mesh(geometry: MeshGeometry, mesh_path: Path, scale: Sequence[float]
 
 
 @functools.lru_cache(maxsize=4)
-def _textured_mesh(mesh_path: Path, scale: tuple[float, float, float], T_key: bytes, _stamp):
+def _textured_mesh(
+    mesh_path: Path, scale: tuple[float, float, float], T_key: bytes, _stamp: Stamp
+) -> tuple[trimesh.Trimesh, NDArray[np.uint8]] | None:
     T_object_mesh = inv_T(np.frombuffer(T_key).reshape(4, 4))
     try:
         loaded = trimesh.load(mesh_path, force="mesh", process=False)
@@ -295,7 +305,9 @@ def _textured_mesh(mesh_path: Path, scale: tuple[float, float, float], T_key: by
     return mesh, colours
 
 
-def textured_display_mesh(geometry: MeshGeometry, mesh_path: Path, scale: Sequence[float]):
+def textured_display_mesh(
+    geometry: MeshGeometry, mesh_path: Path, scale: Sequence[float]
+) -> tuple[trimesh.Trimesh, NDArray[np.uint8] | None]:
     """(visual mesh in the object frame [m], RGBA colours (n, 4) of its vertices): the
     colours of its texture (or of its vertices) when the file has one, read with its
     material; otherwise the display mesh and None. Slower than `display_mesh` (a texture

@@ -12,38 +12,16 @@ the arm gets the prefix "<arm name>_" and the mounted robot's arm description sa
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import DescriptionError
 from graspframe.hal.descriptions import AdapterShape, ArmDescription, HandDescription, Mounting
+from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.transforms import as_pose, make_T
 from graspframe.urdf_elements import set_origin
 from graspframe.urdf_model import UrdfModel, combine
-
-
-@dataclass(frozen=True)
-class MountedRobot:
-    """A hand fixed to an arm's flange.
-
-    arm: the arm as mounted (its names prefixed when they clashed with the hand's).
-    model: the combined model (arm links, then hand links, one fixed mount joint).
-    T_flange_hand: pose of the hand's root link in the flange frame.
-    mounting: the name of the hand's `Mounting` used (None: no adapter).
-    """
-
-    arm: ArmDescription
-    hand: HandDescription
-    model: UrdfModel
-    mount_joint: str
-    T_flange_hand: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
-    mounting: str | None = None
-
-    @property
-    def name(self) -> str:
-        return f"{self.arm.name}+{self.hand.name}"
 
 
 def _adapter_link(name: str, mounting: Mounting) -> ET.Element:

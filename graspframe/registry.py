@@ -8,7 +8,7 @@ GRASPFRAME_STRICT_PLUGINS=1 re-raises the first failure instead; GRASPFRAME_DISA
 takes a comma-separated list of plugin names not to load.
 
 Core code asks the registry (`get_hand("karlsruhe")`), never `pm.hook` directly. Where
-a hand or an arm is asked for, a spec file path (`my_hand.toml`, graspframe/specs.py)
+a hand or an arm is asked for, a spec file path (`my_hand.toml`, graspframe/specs/)
 may stand in for a registered name.
 """
 
@@ -149,7 +149,7 @@ def _one_line(exc: BaseException) -> str:
 class Registry:
     """Registered hands, arms, backends, classifiers, objects and viewers, with their origin."""
 
-    def __init__(self, strict: bool | None = None):
+    def __init__(self, strict: bool | None = None) -> None:
         self.strict = _strict_from_env() if strict is None else strict
         self._pm = pluggy.PluginManager("graspframe")
         self._pm.add_hookspecs(hookspecs)

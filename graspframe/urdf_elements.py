@@ -133,7 +133,11 @@ def named_colours(robot: ET.Element) -> dict[str, tuple[float, ...]]:
 
 
 def visual_of(
-    link: str, element: ET.Element, named: Mapping[str, tuple], urdf_dir: Path, packages
+    link: str,
+    element: ET.Element,
+    named: Mapping[str, tuple],
+    urdf_dir: Path,
+    packages: Mapping[str, Path],
 ) -> Visual | None:
     geometry = element.find("geometry")
     if geometry is None or len(geometry) == 0:

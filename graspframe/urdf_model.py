@@ -130,7 +130,7 @@ class UrdfModel:
         return self.sources[0].name if len(self.sources) == 1 else self.name
 
 
-def _convex_collisions(link: ET.Element, urdf_dir: Path, packages) -> None:
+def _convex_collisions(link: ET.Element, urdf_dir: Path, packages: Mapping[str, Path]) -> None:
     """Replace every collision mesh of the link by one collision per convex piece."""
     from graspframe.convex import convex_pieces
 

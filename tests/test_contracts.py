@@ -17,6 +17,7 @@ from graspframe.hal import (
     HumanGraspEstimate,
     JointSpec,
 )
+from graspframe.hal.descriptions import FINGERTIP_FRAMES_KEY
 from graspframe.testing import (
     assert_classifier_contract,
     assert_hand_contract,
@@ -74,6 +75,18 @@ def _broken_cases(urdf):
             {"palm_frame": "fk_base"},
             "not on the palm surface",
         ),
+        "fingertip frame not in the model": (
+            {"extras": {FINGERTIP_FRAMES_KEY: {"finger": "fk_nowhere"}}},
+            "fingertip frame of 'finger' 'fk_nowhere' is not a link of the model",
+        ),
+        "fingertip frame of no finger": (
+            {"extras": {FINGERTIP_FRAMES_KEY: {"index": "fk_finger"}}},
+            "'index', which is not a real finger",
+        ),
+        "fingertip frames as a list": (
+            {"extras": {FINGERTIP_FRAMES_KEY: ("fk_finger", "fk_thumb")}},
+            "must map real finger names to frame names",
+        ),
     }
 
 
@@ -93,6 +106,9 @@ def _broken_cases(urdf):
         "sensor off the palm",
         "missing model",
         "palm frame pointing into the palm",
+        "fingertip frame not in the model",
+        "fingertip frame of no finger",
+        "fingertip frames as a list",
     ],
 )
 def test_each_defect_is_named(case, fake_hand_urdf):

@@ -1,69 +1,102 @@
 """The layers of docs/architecture.md: each part of the core package imports only its own
-layer and the ones below, nothing in it imports the simulator or the recorder, and
-nothing in it imports a plugin package: plugins are found through the registry."""
+floor and the floors below, nothing in it imports the simulator or the recorder, and
+nothing in it imports a plugin package: plugins are found through the registry.
+
+Every import counts: at the top of a module, inside a function, or for type checking
+only. The floors here and the layer picture of docs/architecture.md say the same.
+"""
 
 from __future__ import annotations
 
 import ast
+import re
 from pathlib import Path
 
 import graspframe
 
 PACKAGE = Path(graspframe.__file__).parent
-# Layer of each top-level module or subpackage of graspframe, lowest first.
-LAYERS = {
-    "core": (
-        "__init__", "errors", "transforms", "grasps", "contacts", "hal", "mounting",
-        "robot_model", "files", "defaults", "shapes", "events", "plugins", "registry",
-        "results", "scene", "floating_base", "demo", "convex", "mesh_geometry", "urdf_elements",
-        "urdf_model", "specs",
+ARCHITECTURE = Path(__file__).parents[1] / "docs" / "architecture.md"
+# The floors of the layer picture, lowest first: the top-level modules and subpackages of
+# graspframe on each.
+FLOORS = {
+    "basic types": (
+        "__init__", "errors", "transforms", "grasps", "contacts", "files", "defaults",
     ),
+    "files": (
+        "urdf_elements", "urdf_model", "convex", "mesh_geometry", "results", "scene", "demo",
+    ),
+    "descriptions and HAL": ("hal", "events"),
+    "robot models": ("robot_model", "mounting", "floating_base", "shapes"),
+    "registry": ("registry", "plugins", "specs"),
+    "motion and metrics": ("motion", "metrics"),
     "algorithms": (
-        "motion", "metrics", "strategy", "vision", "testing", "checks", "render", "pictures",
-        "snapshots",
+        "strategy", "testing", "checks", "pictures", "snapshots", "vision", "render",
     ),
     "runs": ("run_request", "run_result", "scoring", "runner", "experiments"),
-    "cli": ("cli", "commands"),
+    "CLI": ("cli", "commands"),
 }  # fmt: skip
-RANK = {part: rank for rank, parts in enumerate(LAYERS.values()) for part in parts}
+RANK = {part: rank for rank, parts in enumerate(FLOORS.values()) for part in parts}
 FORBIDDEN = ("sapien", "rerun")  # plugins only
 # The built-in plugins are the packages graspframe_<name>; graspframe_robots is not a
 # plugin but the model files of robots/, which the core reads.
 PLUGIN_PREFIX = "graspframe_"
 NOT_PLUGINS = ("graspframe_robots",)
+PICTURE_NAME_WIDTH = 14  # the picture's first column: the floor's name
 
 
 def _part(path: Path) -> str:
     return path.relative_to(PACKAGE).parts[0].removesuffix(".py")
 
 
+def _module(path: Path) -> list[str]:
+    """The dotted module name of a file of the package, as a list of names."""
+    names = ["graspframe", *path.relative_to(PACKAGE).with_suffix("").parts]
+    return names[:-1] if names[-1] == "__init__" else names
+
+
 def _imports(path: Path) -> list[str]:
-    """Every module name imported anywhere in the file (functions included)."""
+    """Every module name imported anywhere in the file (functions and type checking
+    included; relative imports resolved)."""
     names = []
+    package = _module(path) if path.name == "__init__.py" else _module(path)[:-1]
     for node in ast.walk(ast.parse(path.read_text())):
         if isinstance(node, ast.Import):
             names += [alias.name for alias in node.names]
-        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
-            if node.module == "graspframe":
-                names += [f"graspframe.{alias.name}" for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = package[: len(package) - node.level + 1] if node.level else []
+            module = ".".join([*base, *([node.module] if node.module else [])])
+            if module == "graspframe" or not node.module:
+                names += [_name_in(module, alias.name) for alias in node.names]
             else:
-                names.append(node.module)
+                names.append(module)
     return names
 
 
-def test_every_part_of_the_package_has_a_layer():
+def _name_in(package: str, name: str) -> str:
+    """The module `from package import name` reads: the submodule `name` when there is
+    one, else the package itself (`name` is one of its attributes)."""
+    folder = PACKAGE.parent.joinpath(*package.split("."))
+    if (folder / name).is_dir() or (folder / f"{name}.py").is_file():
+        return f"{package}.{name}"
+    return f"{package}.__init__" if package == "graspframe" else package
+
+
+def test_every_part_of_the_package_is_on_one_floor():
     parts = {_part(path) for path in PACKAGE.rglob("*.py")}
-    assert parts - {"__version__"} <= set(RANK), f"no layer for {parts - set(RANK)}"
+    assert parts <= set(RANK), f"no floor for {sorted(parts - set(RANK))}"
+    assert set(RANK) <= parts, f"on a floor but not in the package: {sorted(set(RANK) - parts)}"
+    placed = [part for parts in FLOORS.values() for part in parts]
+    assert len(placed) == len(set(placed)), "a part is on two floors"
 
 
-def test_no_layer_imports_a_layer_above_it():
+def test_no_floor_imports_a_floor_above_it():
     upward = []
     for path in PACKAGE.rglob("*.py"):
         part = _part(path)
         for name in _imports(path):
             if name.startswith("graspframe."):
                 target = name.split(".")[1]
-                if RANK.get(target, 0) > RANK.get(part, 0):
+                if RANK[target] > RANK[part]:
                     upward.append(f"{path.relative_to(PACKAGE)} imports {name}")
     assert not upward, "\n".join(upward)
 
@@ -86,3 +119,29 @@ def test_the_core_package_never_imports_a_plugin_package():
         if name.split(".")[0].startswith(PLUGIN_PREFIX) and name.split(".")[0] not in NOT_PLUGINS
     ]
     assert not found, "\n".join(found)
+
+
+def _picture_floors() -> dict[str, set[str]]:
+    """The layer picture of docs/architecture.md, lowest floor first: floor name -> the
+    modules (`name.py`) and subpackages (`name/`) it lists."""
+    text = ARCHITECTURE.read_text().split("## Layers", 1)[1]
+    lines = text[text.index("┌") : text.index("└")].splitlines()[1:]
+    boxes: list[list[str]] = [[]]
+    for line in lines:
+        if "├" in line:
+            boxes.append([])
+        else:
+            boxes[-1].append(line.strip().strip("│").removeprefix(" "))
+    floors = {}
+    for box in reversed(boxes):
+        name = " ".join(row[:PICTURE_NAME_WIDTH].strip() for row in box).strip()
+        listing = " ".join(row[PICTURE_NAME_WIDTH:] for row in box)
+        floors[name] = set(re.findall(r"\b(\w+)(?:\.py\b|/)", listing))
+    return floors
+
+
+def test_the_floors_are_those_of_the_architecture_picture():
+    picture = _picture_floors()
+    assert list(picture) == list(FLOORS)
+    for floor, parts in FLOORS.items():
+        assert picture[floor] == {p for p in parts if not p.startswith("__")}, floor

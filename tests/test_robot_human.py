@@ -14,6 +14,8 @@ generated for the test). Tolerances, with their reasons:
 
 from __future__ import annotations
 
+import hashlib
+import json
 import math
 import subprocess
 import sys
@@ -332,6 +334,26 @@ def test_posture_sets_every_driven_joint(name):
     posture = HAND.preshapes[name]
     assert set(posture.open_q) == set(HAND.joint_names)
     assert set(posture.closed_q) == set(HAND.joint_names)
+
+
+# SHA-256 of every posture's joint names and angles [rad] and delta [m], in order, each
+# number as float.hex(): the postures fitted to the design objects (docs/robots/human.md),
+# bit for bit. A deliberate refit changes it; anything else (how the table is written
+# down) must not.
+POSTURES_SHA256 = "39d3456f878a98ff31531d7bebe407024bf6c5cfee3118bdd6bd00b179a90e4b"
+
+
+def test_postures_are_the_fitted_ones_bit_for_bit():
+    rows = [
+        [
+            name,
+            [[joint, q.hex()] for joint, q in posture.open_q.items()],
+            [[joint, q.hex()] for joint, q in posture.closed_q.items()],
+            posture.delta.hex(),
+        ]
+        for name, posture in HAND.preshapes.items()
+    ]
+    assert hashlib.sha256(json.dumps(rows).encode()).hexdigest() == POSTURES_SHA256
 
 
 @pytest.mark.parametrize("name", [g.value for g in HumanGrasp])

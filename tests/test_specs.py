@@ -1,4 +1,4 @@
-"""Hand and arm specs (graspframe/specs.py): the worked examples on the real vendor files,
+"""Hand and arm specs (graspframe/specs/): the worked examples on the real vendor files,
 every kind of bad spec refused in one line, and specs wherever a name is accepted."""
 
 from __future__ import annotations

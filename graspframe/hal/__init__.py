@@ -14,6 +14,7 @@ from graspframe.hal.descriptions import (
     Mounting,
 )
 from graspframe.hal.drivers import ArmDriver, Backend, HandDriver, ObjectProbe, World, WorldConfig
+from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.hal.objects import ObjectDescription
 from graspframe.hal.viewer import Viewer
 
@@ -32,6 +33,7 @@ __all__ = [
     "HandPreshape",
     "HumanGraspEstimate",
     "JointSpec",
+    "MountedRobot",
     "Mounting",
     "Neighbour",
     "ObjectDescription",

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from graspframe.errors import DescriptionError, UnknownNameError
 from graspframe.grasps import HumanGrasp
@@ -22,7 +23,11 @@ from graspframe.hal.objects import SHAPES
 from graspframe.transforms import as_pose
 from graspframe.urdf_model import FrameOffset, UrdfModel, description_model
 
+FINGERTIP_FRAMES_KEY = "fingertip_frames"
+"""The key of `HandDescription.extras` naming each real finger's fingertip frame."""
+
 __all__ = [
+    "FINGERTIP_FRAMES_KEY",
     "AdapterShape",
     "ArmDescription",
     "Coupling",
@@ -105,7 +110,7 @@ class DesignObject:
     axis: tuple[float, float, float] | None = None
     length: float | None = None
 
-    def extent_along(self, n_palm) -> float:
+    def extent_along(self, n_palm: ArrayLike) -> float:
         """[m] half-extent of the object along the unit palm-frame direction n_palm."""
         n = np.asarray(n_palm, dtype=float)
         n = n / np.linalg.norm(n)
@@ -241,6 +246,10 @@ class HandDescription:
     grasp_map: every HumanGrasp -> a preshape name (for the human hand: its posture).
     drive: PD gains for the simulated finger drives.
     mass: [kg] total, informative.
+    extras: further facts about the hand, by key, for documentation and tools. One key
+        has a fixed meaning (FINGERTIP_FRAMES_KEY, read through `fingertip_frames`): real
+        finger name -> the link or added frame at that finger's tip, for each finger
+        (not the palm); the contract checks that they are links of the model.
     mountings: name -> `Mounting`: adapters the planner may put between the arm flange
         and the hand, in this order, when the arm finds no path with the hand's root link
         bolted straight onto the flange (graspframe/strategy/arm_path.py).
@@ -315,6 +324,20 @@ class HandDescription:
             if c.in_model and c.leader in full:
                 full[c.follower] = c.multiplier * full[c.leader] + c.offset
         return full
+
+    @property
+    def fingertip_frames(self) -> dict[str, str]:
+        """Real finger name -> the link or added frame at its tip
+        (`extras[FINGERTIP_FRAMES_KEY]`); empty when the hand does not name them."""
+        frames = self.extras.get(FINGERTIP_FRAMES_KEY, {})
+        if not isinstance(frames, Mapping) or not all(
+            isinstance(finger, str) and isinstance(frame, str) for finger, frame in frames.items()
+        ):
+            raise DescriptionError(
+                f"hand {self.name!r}: extras[{FINGERTIP_FRAMES_KEY!r}] must map real finger names "
+                f"to frame names, got {frames!r}"
+            )
+        return dict(frames)
 
     def finger_of_link(self) -> dict[str, str]:
         """link name -> real finger name."""

@@ -11,7 +11,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -19,10 +19,8 @@ from numpy.typing import NDArray
 from graspframe.contacts import Contact, PalmSensorReading
 from graspframe.errors import GraspframeError
 from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.hal.objects import ObjectDescription
-
-if TYPE_CHECKING:  # graspframe.mounting reads the descriptions of this package
-    from graspframe.mounting import MountedRobot
 
 
 @dataclass(frozen=True)
@@ -30,10 +28,11 @@ class WorldConfig:
     """Everything a backend needs to build a world.
 
     hand: the hand, mounted on the arm of `robot` or floating freely.
-    robot: the hand fixed to an arm's flange (`graspframe.mounting.mount`): the arm, the
-        pose of the hand on the flange, any adapter, and the combined model file a
-        backend loads. The core mounts the hand; a backend only reads the result. None:
-        a free-floating hand (placed with `HandDriver.set_free_pose`).
+    robot: the hand fixed to an arm's flange (`MountedRobot`, built by
+        `graspframe.mounting.mount`): the arm, the pose of the hand on the flange, any
+        adapter, and the combined model file a backend loads. The core mounts the hand;
+        a backend only reads the result. None: a free-floating hand (placed with
+        `HandDriver.set_free_pose`).
     T_world_arm_base: pose of the arm base in the world.
     T_world_object: true pose of the object's centroid frame in the world.
     table_height: [m] height of the table top (world z up).

@@ -37,7 +37,7 @@ def holding_drive(drive: DriveGains) -> DriveGains:
 class HandController:
     """Setpoints and drive targets [rad] of one hand's actuated joints."""
 
-    def __init__(self, hand: HandDescription):
+    def __init__(self, hand: HandDescription) -> None:
         self.hand = hand
         self._couplings = [c for c in hand.couplings if not c.in_model]
         self._spec = {j.name: j for j in hand.joints}
@@ -77,7 +77,14 @@ class HandController:
             for name, target in targets.items()
         }
 
-    def _update_breakaway(self, leader: str, breakaway_torque: float, motor: float, q, qd):
+    def _update_breakaway(
+        self,
+        leader: str,
+        breakaway_torque: float,
+        motor: float,
+        q: Mapping[str, float],
+        qd: Mapping[str, float],
+    ) -> None:
         """Hold the leader when its drive torque [N m] exceeds the breakaway torque;
         release it when the motor goes back below the held angle."""
         held = self._held.get(leader)

@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from graspframe.errors import DescriptionError
 from graspframe.files import mesh_file
@@ -212,7 +213,7 @@ class ObjectDescription:
             return math.pi * d["radius"] ** 2 * d["length"]
         return 4.0 / 3.0 * math.pi * d["radius"] ** 3
 
-    def extent_along(self, n_object) -> float:
+    def extent_along(self, n_object: ArrayLike) -> float:
         """[m] half-extent of the object along the unit direction n_object (object frame):
         the largest projection of its surface on that direction, measured from the
         centroid (a mesh: of its convex pieces; a primitive reaches as far along -n)."""

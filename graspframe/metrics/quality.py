@@ -153,7 +153,10 @@ def grasp_quality(
     )
 
 
-def _contacts(points: ArrayLike, normals: ArrayLike):
+def _contacts(
+    points: ArrayLike, normals: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(N,3) contact points [m] and unit normals, checked."""
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     n = np.asarray(normals, dtype=float).reshape(-1, 3)
     if len(p) == 0 or len(p) != len(n):

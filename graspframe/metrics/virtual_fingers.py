@@ -3,22 +3,16 @@
 A real finger is one finger or the palm; a virtual finger is a set of real fingers whose
 forces act in unison. The steps, each a pure function:
 
-1. `group_by_real_finger`: contacts (from any source) -> one `RealFingerContacts` per
-   real finger, in a common frame (the object frame in practice).
-2. `force_coupling` / `pair_cohesion`: D_c = cos(f_i, f_j) and m_ij = (1 + D_c) / 2 of two
-   real fingers' net forces (the sum of their contact forces).
-3. `cohesive_index`: C_Vk, the geometric mean of m_ij over the pairs inside a virtual
-   finger (1 for a single real finger).
-4. `effective_cohesion`: C_eff = ((1 / N!) * prod_k C_Vk) ** (1 / N) of a partition, and
-   `best_partition`: the partition of the touching real fingers that maximises it.
+1. `group_by_real_finger` (real_fingers.py): contacts (from any source) -> one
+   `RealFingerContacts` per real finger, in a common frame (the object frame in practice).
+2. to 4. cohesion.py: the force coupling of two real fingers, the cohesive index C_Vk of
+   a virtual finger, the effective cohesion C_eff of a partition, and `best_partition`,
+   the partition of the touching real fingers that maximises it.
 5. `virtual_finger`: the pose of a virtual finger (mean contact position and normalised
    mean contact normal over its T(V_k) contacts).
 6. `compare`: robot virtual fingers against the human's, matched one-to-one.
 
-What the formula gives, written out because the method's prose says otherwise: with
-m_ij = (1 + cos) / 2, parallel forces give m = 1, PERPENDICULAR forces give m = 0.5 and
-OPPOSED forces give m = 0. The method's sentence "any perpendicular pair gives 0" holds for
-an opposed pair, not a perpendicular one; this module implements the formula.
+`virtual_fingers_from_contacts` runs steps 1 to 5 on one grasp's contacts.
 
 Positions are in metres, forces in newtons, normals are unit vectors; errors reported in
 millimetres and degrees carry the suffixes `_mm` and `_deg`. No simulator is imported.
@@ -27,291 +21,26 @@ millimetres and degrees carry the suffixes `_mm` and `_deg`. No simulator is imp
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from more_itertools import set_partitions
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 from scipy.optimize import linear_sum_assignment
 
-from graspframe.contacts import WORLD, Contact
-from graspframe.errors import GraspframeError
-from graspframe.transforms import as_pose
+from graspframe.contacts import Contact
+from graspframe.errors import GraspframeError, NoContactsError
+from graspframe.metrics.cohesion import Partition, best_partition, cohesive_index
+from graspframe.metrics.real_fingers import RealFingerContacts, group_by_real_finger
+from graspframe.metrics.vectors import (
+    ZERO_FORCE,
+    Vectors,
+    checked_unit_vectors,
+    checked_vectors,
+)
 
-UNIT_NORMAL_TOL = 1e-4
-"""A normal is accepted as unit when | |n| - 1 | <= this."""
-ZERO_FORCE = 1e-12
-"""[N] A net force at or below this magnitude has no direction (D_c is undefined)."""
 MIN_MEAN_NORMAL = 1e-6
 """Length of the mean of unit normals below which a virtual finger has no orientation."""
-TIE_TOL = 1e-12
-"""Two C_eff values closer than this are a tie (broken as `best_partition` documents)."""
-
-Vectors = NDArray[np.float64]
-
-
-class NoContactsError(GraspframeError):
-    """There are no (force-bearing) contacts, so there are no virtual fingers to build."""
-
-
-# ----------------------------------------------------------------------------- validation
-
-
-def _vectors(
-    values: ArrayLike | Sequence[ArrayLike], what: str, count: int | None = None
-) -> Vectors:
-    """A read-only float copy of `values` as (N,3), N >= 1, finite; N == count if given."""
-    try:
-        array = np.array(values, dtype=float)
-    except (TypeError, ValueError):
-        raise GraspframeError(f"{what} must be numbers in an (N,3) array") from None
-    if array.ndim != 2 or array.shape[1] != 3 or array.shape[0] == 0:
-        raise GraspframeError(f"{what} must have shape (N,3) with N >= 1, got {array.shape}")
-    if count is not None and array.shape[0] != count:
-        raise GraspframeError(f"{what} must have {count} rows (one per contact), got {len(array)}")
-    if not np.all(np.isfinite(array)):
-        raise GraspframeError(f"{what} contains NaN or infinite values")
-    array.setflags(write=False)
-    return array
-
-
-def _unit_vectors(values: ArrayLike, what: str, count: int | None = None) -> Vectors:
-    array = _vectors(values, what, count)
-    lengths = np.linalg.norm(array, axis=1)
-    worst = int(np.argmax(np.abs(lengths - 1.0)))
-    if abs(lengths[worst] - 1.0) > UNIT_NORMAL_TOL:
-        raise GraspframeError(
-            f"{what} must be unit vectors (|n| = 1 +- {UNIT_NORMAL_TOL}); "
-            f"row {worst} has length {lengths[worst]:.6g}"
-        )
-    return array
-
-
-def _force_directions(forces: ArrayLike | Sequence[ArrayLike], what: str = "forces") -> Vectors:
-    """Unit directions of (F,3) forces [N]; a zero force has none and is rejected."""
-    forces = _vectors(forces, what)
-    magnitudes = np.linalg.norm(forces, axis=1)
-    weakest = int(np.argmin(magnitudes))
-    if magnitudes[weakest] <= ZERO_FORCE:
-        raise GraspframeError(
-            f"{what} row {weakest} is a zero force ({magnitudes[weakest]:.3g} N); "
-            f"the force coupling needs forces above {ZERO_FORCE} N"
-        )
-    return forces / magnitudes[:, None]
-
-
-def _force(f: ArrayLike, what: str) -> Vectors:
-    try:
-        row = np.asarray(f, dtype=float).reshape(1, 3)
-    except (TypeError, ValueError):
-        raise GraspframeError(f"{what} must be a 3-vector force [N]") from None
-    return _force_directions(row, what)[0]
-
-
-# ----------------------------------------------------------------------------- real fingers
-
-
-@dataclass(frozen=True, eq=False)
-class RealFingerContacts:
-    """The contacts of one real finger, all in one common frame (the object frame).
-
-    name: real finger name (a finger or the palm).
-    positions: (N,3) contact positions [m].
-    normals: (N,3) unit contact normals, from the object into the hand.
-    forces: (N,3) forces the finger exerts on the object at each contact [N].
-    Arrays are copied and made read-only; N >= 1.
-    """
-
-    name: str
-    positions: Vectors
-    normals: Vectors
-    forces: Vectors
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name:
-            raise GraspframeError(f"real finger name must be a non-empty string, got {self.name!r}")
-        what = f"real finger {self.name!r}"
-        positions = _vectors(self.positions, f"{what} positions")
-        count = len(positions)
-        object.__setattr__(self, "positions", positions)
-        object.__setattr__(self, "normals", _unit_vectors(self.normals, f"{what} normals", count))
-        object.__setattr__(self, "forces", _vectors(self.forces, f"{what} forces", count))
-
-    @property
-    def contact_count(self) -> int:
-        return len(self.positions)
-
-    @property
-    def force(self) -> Vectors:
-        """(3,) net force of the real finger: the sum of its contact forces [N]."""
-        return self.forces.sum(axis=0)
-
-
-def group_by_real_finger(
-    contacts: Iterable[Contact], T_world_object: ArrayLike | None = None
-) -> tuple[RealFingerContacts, ...]:
-    """Contacts grouped by `Contact.real_finger`, in the object frame (sorted by name).
-
-    contacts: contacts in the world or the object frame (`Contact.frame`).
-    T_world_object: 4x4 pose of the object frame in the world [m]; needed when a contact
-    is in the world frame.
-    Returns an empty tuple when there are no contacts.
-    """
-    T = None if T_world_object is None else as_pose(T_world_object, "T_world_object")
-    rows: dict[str, list[Contact]] = {}
-    for contact in contacts:
-        if not isinstance(contact, Contact):
-            raise GraspframeError(f"expected graspframe.contacts.Contact, got {type(contact)}")
-        if contact.frame == WORLD:
-            if T is None:
-                raise GraspframeError("world-frame contacts need T_world_object")
-            contact = contact.in_object_frame(T)
-        rows.setdefault(contact.real_finger, []).append(contact)
-    return tuple(
-        RealFingerContacts(
-            name=name,
-            positions=np.array([c.p for c in group]),
-            normals=np.array([c.n for c in group]),
-            forces=np.array([c.f for c in group]),
-        )
-        for name, group in sorted(rows.items())
-    )
-
-
-# ----------------------------------------------------------------------------- cohesion
-
-
-def force_coupling(f_i: ArrayLike, f_j: ArrayLike) -> float:
-    """D_c(i, j) = f_i . f_j / (|f_i| |f_j|) in [-1, 1] for two net forces (3,) [N].
-
-    1: parallel, 0: perpendicular, -1: opposed. Zero forces raise GraspframeError.
-    """
-    cos = float(_force(f_i, "f_i") @ _force(f_j, "f_j"))
-    return min(1.0, max(-1.0, cos))
-
-
-def pair_cohesion(f_i: ArrayLike, f_j: ArrayLike) -> float:
-    """m_ij = (1 + D_c(i, j)) / 2 in [0, 1]: parallel 1, perpendicular 0.5, opposed 0."""
-    return (1.0 + force_coupling(f_i, f_j)) / 2.0
-
-
-def _pair_cohesion_matrix(directions: Vectors) -> Vectors:
-    """(F,F) m_ij for unit force directions (F,3)."""
-    cos = np.clip(directions @ directions.T, -1.0, 1.0)
-    return (1.0 + cos) / 2.0
-
-
-def _geometric_mean_of_pairs(m: Vectors, members: Sequence[int]) -> float:
-    """C of the real fingers `members` (indices into the m_ij matrix)."""
-    if len(members) < 2:
-        return 1.0
-    idx = np.asarray(members)
-    i, j = np.triu_indices(len(idx), k=1)
-    pairs = m[idx[i], idx[j]]
-    if np.any(pairs <= 0.0):
-        return 0.0  # an exactly opposed pair: the product, hence the mean, is 0
-    return float(np.exp(np.mean(np.log(pairs))))
-
-
-def cohesive_index(forces: ArrayLike) -> float:
-    """C_Vk in [0, 1]: geometric mean of m_ij over all pairs of the real fingers in one
-    virtual finger, C_Vk = prod_{i<j} m_ij ** (1 / C(F, 2)).
-
-    forces: (F,3) net force of each real finger in the virtual finger [N], F >= 1.
-    One real finger gives 1; all parallel forces give 1; one perpendicular pair alone gives
-    0.5 (not 0 as the method's prose says; docs/method.md, section 5); any opposed pair gives 0.
-    """
-    directions = _force_directions(forces)
-    return _geometric_mean_of_pairs(_pair_cohesion_matrix(directions), range(len(directions)))
-
-
-def effective_cohesion(cohesive_indices: Sequence[float]) -> float:
-    """C_eff = ((1 / N!) * prod_k C_Vk) ** (1 / N) of a partition into N virtual fingers.
-
-    cohesive_indices: C_Vk of each virtual finger, each in [0, 1], N >= 1.
-    """
-    values = [float(c) for c in cohesive_indices]
-    if not values:
-        raise GraspframeError("effective_cohesion needs at least one cohesive index")
-    if not all(0.0 <= c <= 1.0 for c in values):
-        raise GraspframeError(f"cohesive indices must lie in [0, 1], got {values}")
-    n = len(values)
-    return (math.prod(values) / math.factorial(n)) ** (1.0 / n)
-
-
-@dataclass(frozen=True)
-class Partition:
-    """Real fingers split into virtual fingers, with the cohesion of the split.
-
-    blocks: one tuple of real-finger names per virtual finger; names sorted inside a
-        block, blocks sorted lexicographically.
-    cohesive_indices: C_Vk of each block [0..1], in block order.
-    c_eff: effective cohesion of the partition [0..1].
-    """
-
-    blocks: tuple[tuple[str, ...], ...]
-    cohesive_indices: tuple[float, ...]
-    c_eff: float
-
-    @property
-    def count(self) -> int:
-        """N, the number of virtual fingers."""
-        return len(self.blocks)
-
-
-def best_partition(forces: Mapping[str, ArrayLike]) -> Partition:
-    """The partition of the real fingers into virtual fingers with the largest C_eff.
-
-    forces: real finger name -> its net force (3,) [N]; every force must be nonzero.
-    Searches every set partition into N = 1..F blocks (Bell(F) of them: 203 for F = 6,
-    115975 for F = 10), computing each block's C_Vk once.
-    Ties (C_eff within TIE_TOL) go to the fewest virtual fingers, then to the partition
-    whose sorted list of sorted blocks of names is lexicographically smallest, so the
-    result does not depend on the order of `forces`.
-    Raises NoContactsError when `forces` is empty.
-    """
-    if not forces:
-        raise NoContactsError("no real fingers to partition: forces is empty")
-    names = sorted(forces)
-    if not all(isinstance(name, str) for name in names):
-        raise GraspframeError(f"real finger names must be strings, got {names}")
-    directions = _force_directions([forces[name] for name in names], "real finger forces")
-    m = _pair_cohesion_matrix(directions)
-    block_cohesion: dict[tuple[int, ...], float] = {}
-
-    def cohesion(block: list[int]) -> float:
-        key = tuple(block)
-        if key not in block_cohesion:
-            block_cohesion[key] = _geometric_mean_of_pairs(m, sorted(block))
-        return block_cohesion[key]
-
-    best: tuple[float, tuple[tuple[int, ...], ...]] | None = None
-    for n in range(1, len(names) + 1):
-        scale = 1.0 / math.factorial(n)
-        for blocks in set_partitions(range(len(names)), n):
-            c_eff = (math.prod(cohesion(b) for b in blocks) * scale) ** (1.0 / n)
-            if best is None or c_eff > best[0] + TIE_TOL:
-                best = (c_eff, _canonical(blocks))
-            elif c_eff >= best[0] - TIE_TOL and len(best[1]) == n:
-                canonical = _canonical(blocks)
-                if canonical < best[1]:
-                    best = (c_eff, canonical)
-    assert best is not None
-    c_eff, canonical = best
-    return Partition(
-        blocks=tuple(tuple(names[i] for i in block) for block in canonical),
-        cohesive_indices=tuple(cohesion(list(block)) for block in canonical),
-        c_eff=float(c_eff),
-    )
-
-
-def _canonical(blocks: Iterable[Iterable[int]]) -> tuple[tuple[int, ...], ...]:
-    """Blocks of (name-sorted) indices, each sorted, in sorted order."""
-    return tuple(sorted(tuple(sorted(block)) for block in blocks))
-
-
-# ----------------------------------------------------------------------------- virtual fingers
 
 
 @dataclass(frozen=True, eq=False)
@@ -335,8 +64,8 @@ class VirtualFinger:
         members = tuple(self.members)
         if not members or not all(isinstance(name, str) for name in members):
             raise GraspframeError(f"members must be real finger names, got {self.members!r}")
-        position = _vectors(np.reshape(self.position, (1, -1)), f"position of {members}")[0]
-        normal = _unit_vectors(np.reshape(self.normal, (1, -1)), f"normal of {members}")[0]
+        position = checked_vectors(np.reshape(self.position, (1, -1)), f"position of {members}")[0]
+        normal = checked_unit_vectors(np.reshape(self.normal, (1, -1)), f"normal of {members}")[0]
         if int(self.contact_count) < 1:
             raise GraspframeError(f"contact_count must be >= 1, got {self.contact_count}")
         if not 0.0 <= float(self.cohesive_index) <= 1.0:

@@ -19,9 +19,9 @@ from numpy.typing import NDArray
 from graspframe.contacts import Contact
 from graspframe.errors import GraspframeError, MotionError
 from graspframe.hal.drivers import World
+from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.motion.ik import IkSolver, describe_pose
 from graspframe.motion.trajectory import JointLimits, OnlineTrajectory
-from graspframe.mounting import MountedRobot
 from graspframe.transforms import inv_T
 
 CONTROL_PERIOD = 0.01  # [s] 100 Hz arm control
@@ -91,7 +91,7 @@ class ArmMotion:
         control_period: float = CONTROL_PERIOD,
         on_cycle: Callable[[ArmMotion], None] | None = None,
         ik: IkSolver | None = None,
-    ):
+    ) -> None:
         if world.arm is None:
             raise GraspframeError("ArmMotion needs a world with an arm")
         self.world = world

@@ -214,7 +214,7 @@ class RobotCollisionChecker:
         obstacles: Sequence[Obstacle] = (),
         margin: float = DEFAULT_MARGIN,
         ignore: Collection[str | tuple[str, str]] = (),
-    ):
+    ) -> None:
         import pinocchio as pin
 
         self._pin = pin

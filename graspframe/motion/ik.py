@@ -27,7 +27,7 @@ not thread-safe (one per thread).
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -35,7 +35,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from graspframe.errors import GraspframeError, MotionError
-from graspframe.mounting import MountedRobot
+from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.transforms import as_pose, inv_T, rpy_from_R
 
 POSITION_TOLERANCE = 1e-4  # [m] iterate until the palm position error is below this
@@ -119,7 +119,7 @@ class IkSolver:
         restarts: int = RESTARTS,
         max_step: float = MAX_STEP,
         seed: int = 0,
-    ):
+    ) -> None:
         import placo
 
         for name, value in (
@@ -245,7 +245,7 @@ class IkSolver:
 
     # -- solving ------------------------------------------------------------------------
 
-    def _seeds(self, q_seed: NDArray[np.float64]):
+    def _seeds(self, q_seed: NDArray[np.float64]) -> Iterator[NDArray[np.float64]]:
         """The seed, home_q, then `restarts` deterministic seeds (clamped into the limits):
         PERTURBED_SEEDS perturbations of the seed, then uniform samples within the limits."""
         yield q_seed
@@ -265,7 +265,9 @@ class IkSolver:
         self._orientation_task.update()
         return self._position_task.error_norm(), self._orientation_task.error_norm()
 
-    def _descend(self, q_start, q_hand) -> tuple[NDArray[np.float64], float, float, int]:
+    def _descend(
+        self, q_start: NDArray[np.float64], q_hand: Mapping[str, float]
+    ) -> tuple[NDArray[np.float64], float, float, int]:
         """One attempt from q_start: (q_arm, position error, orientation error, steps)."""
         self._set_state(q_start, q_hand)
         history: list[float] = []

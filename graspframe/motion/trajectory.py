@@ -256,7 +256,7 @@ class OnlineTrajectory:
     or `stop`. Not thread-safe.
     """
 
-    def __init__(self, limits: JointLimits, dt: float, q0: ArrayLike):
+    def __init__(self, limits: JointLimits, dt: float, q0: ArrayLike) -> None:
         self.limits = limits
         self.dt = _check_dt(dt)
         self._q = limits.check_position(q0, "q0")

@@ -13,6 +13,10 @@ or runs the parametrised contract tests over every installed plugin:
 testing code that drives a `World`.
 """
 
+from graspframe.hal.classifier import Classifier
+from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.hal.drivers import Backend
+from graspframe.hal.objects import ObjectDescription
 from graspframe.testing.contracts import (
     arm_problems,
     backend_problems,
@@ -31,31 +35,33 @@ def _assert_none(what: str, problems: list[str]) -> None:
         raise AssertionError(f"{what} breaks the contract:\n  - {listing}")
 
 
-def assert_hand_contract(hand) -> None:
+def assert_hand_contract(hand: HandDescription) -> None:
     _assert_none(f"hand {hand.name!r}", hand_problems(hand))
 
 
-def assert_hand_closes(hand) -> None:
+def assert_hand_closes(hand: HandDescription) -> None:
     """Closing each preshape in free space brings its opposing fingers together."""
     _assert_none(f"hand {hand.name!r}", closing_problems(hand))
 
 
-def assert_hand_holds_design_objects(hand, backend) -> None:
+def assert_hand_holds_design_objects(hand: HandDescription, backend: Backend) -> None:
     """The hand alone (floating base, no arm) holds each preshape's design object in
     `backend` (an instance, e.g. SapienBackend())."""
     _assert_none(f"hand {hand.name!r}", hold_problems(hand, backend))
 
 
-def assert_arm_contract(arm) -> None:
+def assert_arm_contract(arm: ArmDescription) -> None:
     _assert_none(f"arm {arm.name!r}", arm_problems(arm))
 
 
-def assert_backend_contract(backend_cls, hand, arm, obj) -> None:
+def assert_backend_contract(
+    backend_cls: type[Backend], hand: HandDescription, arm: ArmDescription, obj: ObjectDescription
+) -> None:
     """`hand`, `arm`, `obj`: descriptions to build the test worlds with."""
     _assert_none(f"backend {backend_cls.name!r}", backend_problems(backend_cls, hand, arm, obj))
 
 
-def assert_classifier_contract(classifier_cls) -> None:
+def assert_classifier_contract(classifier_cls: type[Classifier]) -> None:
     _assert_none(f"classifier {classifier_cls.name!r}", classifier_problems(classifier_cls))
 
 

@@ -24,13 +24,13 @@ def _names(kind: str) -> list[str]:
     return default_registry().names(kind)
 
 
-def test_no_plugin_failed_to_load():
+def test_no_plugin_failed_to_load() -> None:
     failures = [f"{p.name} ({p.package}): {p.error}" for p in default_registry().failures]
     assert not failures, "plugins failed to load:\n" + "\n".join(failures)
 
 
 @pytest.mark.parametrize("hand_name", _names("hand"))
-def test_hand_contract(hand_name):
+def test_hand_contract(hand_name: str) -> None:
     assert_hand_contract(default_registry().get_hand(hand_name))
 
 
@@ -40,12 +40,12 @@ ROBOT_HANDS = [h for h in _names("hand") if h != HUMAN_HAND]
 
 
 @pytest.mark.parametrize("hand_name", ROBOT_HANDS)
-def test_hand_closes_its_preshapes(hand_name):
+def test_hand_closes_its_preshapes(hand_name: str) -> None:
     assert_hand_closes(default_registry().get_hand(hand_name))
 
 
 @pytest.mark.parametrize("hand_name", ROBOT_HANDS)
-def test_hand_alone_holds_its_design_objects(hand_name):
+def test_hand_alone_holds_its_design_objects(hand_name: str) -> None:
     registry = default_registry()
     backend = _first("backend", DEFAULT_BACKEND)
     if backend is None:
@@ -54,12 +54,12 @@ def test_hand_alone_holds_its_design_objects(hand_name):
 
 
 @pytest.mark.parametrize("arm_name", _names("arm"))
-def test_arm_contract(arm_name):
+def test_arm_contract(arm_name: str) -> None:
     assert_arm_contract(default_registry().get_arm(arm_name))
 
 
 @pytest.mark.parametrize("classifier_name", _names("classifier"))
-def test_classifier_contract(classifier_name):
+def test_classifier_contract(classifier_name: str) -> None:
     assert_classifier_contract(default_registry().get_classifier(classifier_name))
 
 
@@ -69,7 +69,7 @@ def _first(kind: str, preferred: str) -> str | None:
 
 
 @pytest.mark.parametrize("backend_name", _names("backend"))
-def test_backend_contract(backend_name):
+def test_backend_contract(backend_name: str) -> None:
     registry = default_registry()
     hand, arm, obj = _first("hand", "barrett"), _first("arm", DEFAULT_ARM), _first("object", "")
     if hand is None or arm is None or obj is None:

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import GraspframeError
+from graspframe.errors import DescriptionError, GraspframeError
 from graspframe.grasps import PALM, HumanGrasp
 from graspframe.hal.classifier import (
     PICTURE_KINDS,
@@ -28,6 +28,9 @@ from graspframe.hal.descriptions import (
     JointSpec,
     Mounting,
 )
+from graspframe.hal.drivers import ArmDriver, Backend, World, WorldConfig
+from graspframe.hal.mounted_robot import MountedRobot
+from graspframe.hal.objects import ObjectDescription
 from graspframe.robot_model import CollisionModel, summarize_urdf
 from graspframe.transforms import R_from_rpy, make_T
 
@@ -186,12 +189,31 @@ def hand_problems(hand: HandDescription) -> list[str]:
     named_links += [
         (f"link of real finger {f!r}", link) for f, ls in hand.real_fingers.items() for link in ls
     ]
+    tip_problems, tips = _fingertip_problems(hand)
+    problems += tip_problems
+    named_links += [(f"fingertip frame of {finger!r}", frame) for finger, frame in tips.items()]
     problems += _model_problems(hand, hand.joints, named_links)
     # The palm direction needs only the model, its palm frame and palm links: check it
     # also when the joints are wrong, so that one run names every defect.
     if _model_has_links(hand, {hand.palm_frame, *hand.real_fingers.get(PALM, ())}):
         problems += palm_direction_problems(hand)
     return problems
+
+
+def _fingertip_problems(hand: HandDescription) -> tuple[list[str], dict[str, str]]:
+    """(problems, fingertip frames): the fingertip frames the hand names
+    (`HandDescription.fingertip_frames`) must belong to its real fingers, not the palm."""
+    try:
+        tips = hand.fingertip_frames
+    except DescriptionError as exc:
+        return [str(exc)], {}
+    problems = [
+        f"fingertip frame {frame!r} is given for {finger!r}, which is not a real finger "
+        f"(real fingers: {', '.join(f for f in hand.real_fingers if f != PALM)})"
+        for finger, frame in tips.items()
+        if finger not in hand.real_fingers or finger == PALM
+    ]
+    return problems, tips
 
 
 def _model_has_links(hand: HandDescription, links: set[str]) -> bool:
@@ -322,12 +344,14 @@ CONTRACT_T_FLANGE_HAND = make_T(R_from_rpy(0.0, 0.0, np.pi / 2), [0.0, 0.0, 0.01
 CONTRACT_T_WORLD_ARM_BASE = make_T(p=[-0.05, 0.02, 0.0])
 
 
-def _mounted_palm_problems(world, robot, T_world_arm_base) -> list[str]:
+def _mounted_palm_problems(
+    world: World, arm_driver: ArmDriver, robot: MountedRobot, T_world_arm_base: NDArray[np.float64]
+) -> list[str]:
     """The measured palm pose against the mounted model's forward kinematics at the
     measured joints."""
     model = CollisionModel(robot.model)
     q = robot.hand.with_model_followers(world.hand.joint_positions())
-    q.update(zip(robot.arm.joint_names, world.arm.joint_positions(), strict=True))
+    q.update(zip(robot.arm.joint_names, arm_driver.joint_positions(), strict=True))
     model.place(q)
     T_world_palm_model = T_world_arm_base @ model.T_root_frame(robot.hand.palm_frame)
     T_world_palm = np.asarray(world.hand.T_world_palm())
@@ -342,11 +366,12 @@ def _mounted_palm_problems(world, robot, T_world_arm_base) -> list[str]:
     return []
 
 
-def backend_problems(backend_cls, hand, arm, obj) -> list[str]:
+def backend_problems(
+    backend_cls: type[Backend], hand: HandDescription, arm: ArmDescription, obj: ObjectDescription
+) -> list[str]:
     """A backend must build worlds (mounted and free-floating) whose drivers behave, the
     mounted one from the model the core mounted (`WorldConfig.robot`)."""
     from graspframe.contacts import Contact, PalmSensorReading
-    from graspframe.hal.drivers import WorldConfig
     from graspframe.mounting import mount
 
     problems = _name_problems("backend", getattr(backend_cls, "name", ""))
@@ -369,7 +394,10 @@ def backend_problems(backend_cls, hand, arm, obj) -> list[str]:
     except Exception as exc:
         return [*problems, f"create_world failed: {type(exc).__name__}: {exc}"]
     with world:
-        if world.arm is None or tuple(world.arm.joint_names) != arm.joint_names:
+        arm_driver = world.arm
+        if arm_driver is None:
+            return [*problems, "a world with a mounted robot has no arm driver (World.arm)"]
+        if tuple(arm_driver.joint_names) != arm.joint_names:
             problems.append("the arm driver's joints differ from the arm description's")
         if set(world.hand.joint_names) != set(hand.joint_names):
             problems.append("the hand driver's joints differ from the hand description's")
@@ -377,15 +405,15 @@ def backend_problems(backend_cls, hand, arm, obj) -> list[str]:
         world.step(10)
         if abs(world.time - t0 - 10 * world.timestep) > 1e-9:
             problems.append("time does not advance by timestep per step")
-        world.arm.set_joint_targets(np.asarray(arm.home_q))
+        arm_driver.set_joint_targets(np.asarray(arm.home_q))
         world.step(max(1, round(0.5 / world.timestep)))
-        error = np.abs(world.arm.joint_positions() - np.asarray(arm.home_q)).max()
+        error = np.abs(arm_driver.joint_positions() - np.asarray(arm.home_q)).max()
         if error > BACKEND_TRACKING_TOL:
             problems.append(
                 f"arm does not hold its home configuration: {np.degrees(error):.2f} deg off"
             )
         try:
-            world.arm.set_joint_targets(np.zeros(arm.dof + 1))
+            arm_driver.set_joint_targets(np.zeros(arm.dof + 1))
             problems.append("arm targets of the wrong length were accepted")
         except GraspframeError:
             pass
@@ -398,7 +426,7 @@ def backend_problems(backend_cls, hand, arm, obj) -> list[str]:
         if T_world_palm.shape != (4, 4):
             problems.append("T_world_palm() must return a 4x4 pose")
         else:
-            problems += _mounted_palm_problems(world, robot, CONTRACT_T_WORLD_ARM_BASE)
+            problems += _mounted_palm_problems(world, arm_driver, robot, CONTRACT_T_WORLD_ARM_BASE)
         if (
             world.object is None
             or np.linalg.norm(world.object.T_world_object()[:3, 3] - T_world_object[:3, 3]) > 0.01

@@ -17,6 +17,7 @@ import math
 
 from graspframe.grasps import PALM, HumanGrasp, Preshape
 from graspframe.hal.descriptions import (
+    FINGERTIP_FRAMES_KEY,
     Coupling,
     DesignObject,
     DriveGains,
@@ -38,7 +39,7 @@ SPREAD_FOLLOWER = "bh_spread_2"
 FINGERS = (1, 2, 3)
 PROXIMAL = tuple(f"bh_f{f}_prox" for f in FINGERS)
 DISTAL = tuple(f"bh_f{f}_dist" for f in FINGERS)
-FINGERTIP_LINKS = tuple(f"bh_f{f}_tip" for f in FINGERS)
+FINGERTIP_FRAMES = {f"finger_{f}": f"bh_f{f}_tip" for f in FINGERS}
 
 # Limits equal the URDF's (Barrett BH8-280 specifications: spread 0-180, proximal
 # 0-140, distal 0-48 deg).
@@ -244,5 +245,5 @@ BARRETT = HandDescription(
     couplings=COUPLINGS,
     mass=1.2,
     summary="Barrett BH8-280: 3 fingers, 4 motors (spread + one per finger), 8 joints",
-    extras={"fingertip_links": FINGERTIP_LINKS, "thumb": "finger_3"},
+    extras={FINGERTIP_FRAMES_KEY: FINGERTIP_FRAMES, "thumb": "finger_3"},
 )

@@ -25,10 +25,10 @@ free space. The postures were fitted to the design objects in extras["design_obj
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
 
 from graspframe.grasps import PALM, THUMB, HumanGrasp
 from graspframe.hal.descriptions import (
+    FINGERTIP_FRAMES_KEY,
     Coupling,
     DesignObject,
     DriveGains,
@@ -103,133 +103,39 @@ COUPLINGS = tuple(
     Coupling(f"hh_{f}_dip", f"hh_{f}_pip", DIP_PER_PIP, in_model=True) for f in FINGERS
 )
 
-# Postures [deg] per human grasp: (open, closed, delta [m]). Joint keys without the hh_
-# prefix. delta: the mean height of the five fingertip markers above the palm surface
-# (along palm +z) in the open posture, from forward kinematics (a test recomputes it). The
-# mean, not the highest: one digit held out of the way (an extended thumb) would dominate.
+# Postures [deg] per human grasp: the open and the closed posture, one column per joint
+# of POSTURE_JOINTS (joint names without the hh_ prefix), and delta [m]: the mean height
+# of the five fingertip markers above the palm surface (along palm +z) in the open
+# posture, from forward kinematics (a test recomputes it). The mean, not the highest: one
+# digit held out of the way (an extended thumb) would dominate.
+POSTURE_JOINTS = (
+    *(f"{finger}_{joint}" for finger in FINGERS for joint in ("abd", "mcp", "pip")),
+    *(f"thumb_{joint}" for joint in ("cmc_abd", "cmc_flex", "mcp", "ip")),
+)
+# fmt: off
 _POSTURES_DEG = {
+    #    index           middle          ring            little          thumb (cmc abd, cmc flex)
+    #    abd  mcp  pip   abd  mcp  pip   abd  mcp  pip   abd  mcp  pip   abd flex  mcp   ip
     # Bottle, diameter 80 mm, across the palm: fingers curved but open, thumb abducted
     # out of the palm and extended; closing wraps fingers and thumb around it.
     HumanGrasp.LARGE_DIAMETER: (
-        {
-            "index_abd": 0,
-            "index_mcp": 16,
-            "index_pip": 24,
-            "middle_abd": 0,
-            "middle_mcp": 23,
-            "middle_pip": 31,
-            "ring_abd": 0,
-            "ring_mcp": 21,
-            "ring_pip": 28,
-            "little_abd": 0,
-            "little_mcp": 18,
-            "little_pip": 18,
-            "thumb_cmc_abd": 95,
-            "thumb_cmc_flex": -17,
-            "thumb_mcp": -4,
-            "thumb_ip": 9,
-        },
-        {
-            "index_abd": 0,
-            "index_mcp": 47,
-            "index_pip": 63,
-            "middle_abd": 0,
-            "middle_mcp": 59,
-            "middle_pip": 74,
-            "ring_abd": 0,
-            "ring_mcp": 57,
-            "ring_pip": 69,
-            "little_abd": 0,
-            "little_mcp": 52,
-            "little_pip": 52,
-            "thumb_cmc_abd": 95,
-            "thumb_cmc_flex": -1,
-            "thumb_mcp": 18,
-            "thumb_ip": 53,
-        },
+        (  0,  16,  24,    0,  23,  31,    0,  21,  28,    0,  18,  18,   95, -17,  -4,   9),
+        (  0,  47,  63,    0,  59,  74,    0,  57,  69,    0,  52,  52,   95,  -1,  18,  53),
         0.0519,
     ),
     # Handle, diameter 25 mm, across the palm just short of the knuckles: fingers hooked,
     # closing curls them fully round it (MCP 85-90, PIP 90); the thumb comes in (CMC
     # abduction 68 -> 60) and closes over the bar beside the index.
     HumanGrasp.SMALL_DIAMETER: (
-        {
-            "index_abd": 0,
-            "index_mcp": 21,
-            "index_pip": 38,
-            "middle_abd": 0,
-            "middle_mcp": 42,
-            "middle_pip": 58,
-            "ring_abd": 0,
-            "ring_mcp": 43,
-            "ring_pip": 61,
-            "little_abd": 0,
-            "little_mcp": 37,
-            "little_pip": 52,
-            "thumb_cmc_abd": 68,
-            "thumb_cmc_flex": -14,
-            "thumb_mcp": 10,
-            "thumb_ip": 5,
-        },
-        {
-            "index_abd": 0,
-            "index_mcp": 85,
-            "index_pip": 90,
-            "middle_abd": 0,
-            "middle_mcp": 90,
-            "middle_pip": 90,
-            "ring_abd": 0,
-            "ring_mcp": 90,
-            "ring_pip": 90,
-            "little_abd": 0,
-            "little_mcp": 85,
-            "little_pip": 90,
-            "thumb_cmc_abd": 60,
-            "thumb_cmc_flex": -7,
-            "thumb_mcp": 60,
-            "thumb_ip": 80,
-        },
+        (  0,  21,  38,    0,  42,  58,    0,  43,  61,    0,  37,  52,   68, -14,  10,   5),
+        (  0,  85,  90,    0,  90,  90,    0,  90,  90,    0,  85,  90,   60,  -7,  60,  80),
         0.0610,
     ),
     # Cylinder, diameter 50 mm, lying obliquely across the palm: the fingers wrap it, the
     # thumb is not opposed but lies extended along the cylinder axis.
     HumanGrasp.ABDUCTED_THUMB: (
-        {
-            "index_abd": 0,
-            "index_mcp": 18,
-            "index_pip": 36,
-            "middle_abd": 0,
-            "middle_mcp": 46,
-            "middle_pip": 52,
-            "ring_abd": 0,
-            "ring_mcp": 59,
-            "ring_pip": 40,
-            "little_abd": 0,
-            "little_mcp": 74,
-            "little_pip": 28,
-            "thumb_cmc_abd": 27,
-            "thumb_cmc_flex": 4,
-            "thumb_mcp": -3,
-            "thumb_ip": -9,
-        },
-        {
-            "index_abd": 0,
-            "index_mcp": 55,
-            "index_pip": 90,
-            "middle_abd": 0,
-            "middle_mcp": 84,
-            "middle_pip": 90,
-            "ring_abd": 0,
-            "ring_mcp": 90,
-            "ring_pip": 76,
-            "little_abd": 0,
-            "little_mcp": 90,
-            "little_pip": 54,
-            "thumb_cmc_abd": 36,
-            "thumb_cmc_flex": 15,
-            "thumb_mcp": 25,
-            "thumb_ip": -1,
-        },
+        (  0,  18,  36,    0,  46,  52,    0,  59,  40,    0,  74,  28,   27,   4,  -3,  -9),
+        (  0,  55,  90,    0,  84,  90,    0,  90,  76,    0,  90,  54,   36,  15,  25,  -1),
         0.0560,
     ),
     # Small object (a 20 mm ball) between the thumb tip and the index tip, the middle
@@ -237,42 +143,8 @@ _POSTURES_DEG = {
     # that it meets the object with its tip, if at all; ring and little curled out of the
     # way.
     HumanGrasp.PINCH: (
-        {
-            "index_abd": 0,
-            "index_mcp": 30,
-            "index_pip": 25,
-            "middle_abd": 8,
-            "middle_mcp": 35,
-            "middle_pip": 30,
-            "ring_abd": 0,
-            "ring_mcp": 60,
-            "ring_pip": 70,
-            "little_abd": 0,
-            "little_mcp": 65,
-            "little_pip": 70,
-            "thumb_cmc_abd": 81,
-            "thumb_cmc_flex": 2,
-            "thumb_mcp": 18,
-            "thumb_ip": -1,
-        },
-        {
-            "index_abd": 0,
-            "index_mcp": 42,
-            "index_pip": 58,
-            "middle_abd": 8,
-            "middle_mcp": 47,
-            "middle_pip": 63,
-            "ring_abd": 0,
-            "ring_mcp": 60,
-            "ring_pip": 70,
-            "little_abd": 0,
-            "little_mcp": 65,
-            "little_pip": 70,
-            "thumb_cmc_abd": 95,
-            "thumb_cmc_flex": 8,
-            "thumb_mcp": 30,
-            "thumb_ip": 18,
-        },
+        (  0,  30,  25,    8,  35,  30,    0,  60,  70,    0,  65,  70,   81,   2,  18,  -1),
+        (  0,  42,  58,    8,  47,  63,    0,  60,  70,    0,  65,  70,   95,   8,  30,  18),
         0.0576,
     ),
     # Ball, diameter 90 mm, in the palm: fingers spread and curved, thumb opposed. The ball
@@ -280,42 +152,8 @@ _POSTURES_DEG = {
     # than the ball's diameter meets the table first: the open thumb is curled at the IP,
     # so that the table bends it further round the ball rather than back past its limits.
     HumanGrasp.POWER_SPHERE: (
-        {
-            "index_abd": -15,
-            "index_mcp": 49,
-            "index_pip": 29,
-            "middle_abd": -4,
-            "middle_mcp": 34,
-            "middle_pip": 33,
-            "ring_abd": 10,
-            "ring_mcp": 35,
-            "ring_pip": 31,
-            "little_abd": 22,
-            "little_mcp": 57,
-            "little_pip": 6,
-            "thumb_cmc_abd": 90,
-            "thumb_cmc_flex": -20,
-            "thumb_mcp": -10,
-            "thumb_ip": 40,
-        },
-        {
-            "index_abd": -15,
-            "index_mcp": 68,
-            "index_pip": 44,
-            "middle_abd": -4,
-            "middle_mcp": 66,
-            "middle_pip": 65,
-            "ring_abd": 10,
-            "ring_mcp": 65,
-            "ring_pip": 60,
-            "little_abd": 22,
-            "little_mcp": 86,
-            "little_pip": 27,
-            "thumb_cmc_abd": 100,
-            "thumb_cmc_flex": -12,
-            "thumb_mcp": 36,
-            "thumb_ip": 30,
-        },
+        (-15,  49,  29,   -4,  34,  33,   10,  35,  31,   22,  57,   6,   90, -20, -10,  40),
+        (-15,  68,  44,   -4,  66,  65,   10,  65,  60,   22,  86,  27,  100, -12,  36,  30),
         0.0701,
     ),
     # Disc (lid), diameter 90 mm, held by the fingertips in front of the palm, its
@@ -325,49 +163,17 @@ _POSTURES_DEG = {
     # across it against the fingers. The palm does not touch. Fitted in simulation to the
     # 75, 100 and 125 % discs (tools/human_references.py).
     HumanGrasp.PRECISION_DISC: (
-        {
-            "index_abd": -19,
-            "index_mcp": 47,
-            "index_pip": -4,
-            "middle_abd": -4,
-            "middle_mcp": 34,
-            "middle_pip": 8,
-            "ring_abd": 9,
-            "ring_mcp": 32,
-            "ring_pip": 16,
-            "little_abd": 20,
-            "little_mcp": 60,
-            "little_pip": 44,
-            "thumb_cmc_abd": 51,
-            "thumb_cmc_flex": -20,
-            "thumb_mcp": -10,
-            "thumb_ip": 78,
-        },
-        {
-            "index_abd": -19,
-            "index_mcp": 33,
-            "index_pip": 78,
-            "middle_abd": -4,
-            "middle_mcp": 39,
-            "middle_pip": 74,
-            "ring_abd": 9,
-            "ring_mcp": 83,
-            "ring_pip": 48,
-            "little_abd": 20,
-            "little_mcp": 74,
-            "little_pip": 37,
-            "thumb_cmc_abd": 77,
-            "thumb_cmc_flex": -11,
-            "thumb_mcp": 3,
-            "thumb_ip": 80,
-        },
+        (-19,  47,  -4,   -4,  34,   8,    9,  32,  16,   20,  60,  44,   51, -20, -10,  78),
+        (-19,  33,  78,   -4,  39,  74,    9,  83,  48,   20,  74,  37,   77, -11,   3,  80),
         0.0534,
     ),
 }
+# fmt: on
 
 
-def _rad(q_deg: Mapping[str, float]) -> dict[str, float]:
-    return {f"hh_{name}": value * DEG for name, value in q_deg.items()}
+def _rad(q_deg: tuple[int, ...]) -> dict[str, float]:
+    """A posture row [deg] as joint name -> angle [rad]."""
+    return {f"hh_{name}": value * DEG for name, value in zip(POSTURE_JOINTS, q_deg, strict=True)}
 
 
 # The objects the postures were fitted to, in the palm frame at the 190 mm size: centre
@@ -477,6 +283,6 @@ HUMAN = HandDescription(
     extras={
         "hand_length": HAND_LENGTH,
         "side": "right",
-        "fingertip_links": tuple(f"hh_{digit}_tip" for digit in DIGITS),
+        FINGERTIP_FRAMES_KEY: {digit: f"hh_{digit}_tip" for digit in DIGITS},
     },
 )

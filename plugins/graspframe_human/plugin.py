@@ -1,9 +1,10 @@
 """Registers the human right hand (the reference hand) with graspframe."""
 
 from graspframe.plugins import hookimpl
+from graspframe.plugins.hookspecs import Register
 from graspframe_human.description import HUMAN
 
 
 @hookimpl
-def graspframe_register_hands(register):
+def graspframe_register_hands(register: Register) -> None:
     register(HUMAN)

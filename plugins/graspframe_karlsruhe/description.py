@@ -26,6 +26,7 @@ import numpy as np
 
 from graspframe.grasps import PALM, THUMB, HumanGrasp, Preshape
 from graspframe.hal.descriptions import (
+    FINGERTIP_FRAMES_KEY,
     AdapterShape,
     DesignObject,
     DriveGains,
@@ -231,6 +232,6 @@ KARLSRUHE_HAND = HandDescription(
     drive=DRIVE,
     mass=MASS,
     summary="Karlsruhe humanoid hand: right, 5 fingers, 8 fluidic (soft) joints, 0..90 deg",
-    extras={"model_frame": MODEL_FRAME, "fingertip_frames": FINGERTIP_FRAMES},
+    extras={"model_frame": MODEL_FRAME, FINGERTIP_FRAMES_KEY: FINGERTIP_FRAMES},
     mountings=MOUNTINGS,
 )

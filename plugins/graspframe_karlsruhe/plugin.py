@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 from graspframe.plugins import hookimpl
+from graspframe.plugins.hookspecs import Register
 from graspframe_karlsruhe.description import KARLSRUHE_HAND
 
 
 @hookimpl
-def graspframe_register_hands(register):
+def graspframe_register_hands(register: Register) -> None:
     register(KARLSRUHE_HAND)

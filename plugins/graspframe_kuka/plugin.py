@@ -1,9 +1,10 @@
 """Registers the KUKA KR 5 sixx R850 arm."""
 
 from graspframe.plugins import hookimpl
+from graspframe.plugins.hookspecs import Register
 from graspframe_kuka.description import arm_description
 
 
 @hookimpl
-def graspframe_register_arms(register):
+def graspframe_register_arms(register: Register) -> None:
     register(arm_description())

@@ -12,16 +12,18 @@ Cylinders stand upright (axis along the object's z); the object frame is the cen
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import Any
 
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.objects import ObjectDescription
 from graspframe.plugins import hookimpl
+from graspframe.plugins.hookspecs import Register
 
 STATIC_FRICTION = 0.8
 DYNAMIC_FRICTION = 0.6
 
 
-def _object(**fields) -> ObjectDescription:
+def _object(**fields: Any) -> ObjectDescription:
     return ObjectDescription(
         static_friction=STATIC_FRICTION, dynamic_friction=DYNAMIC_FRICTION, **fields
     )
@@ -103,6 +105,6 @@ SIZED_OBJECTS = tuple(scaled(obj, scale) for obj in OBJECTS for scale in SIZE_VA
 
 
 @hookimpl
-def graspframe_register_objects(register):
+def graspframe_register_objects(register: Register) -> None:
     for obj in (*OBJECTS, *SIZED_OBJECTS):
         register(obj)

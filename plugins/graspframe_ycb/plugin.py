@@ -32,6 +32,7 @@ from graspframe.errors import PluginError
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.objects import MESH, ObjectDescription
 from graspframe.plugins import hookimpl
+from graspframe.plugins.hookspecs import Register
 
 log = logging.getLogger(__name__)
 
@@ -123,7 +124,7 @@ def ycb_objects(root: Path) -> list[ObjectDescription]:
 
 
 @hookimpl
-def graspframe_register_objects(register):
+def graspframe_register_objects(register: Register) -> None:
     root = os.environ.get(YCB_DIR_ENV, "").strip()
     if not root:
         return  # no YCB folder: nothing to register

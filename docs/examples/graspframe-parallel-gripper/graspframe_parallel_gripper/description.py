@@ -23,6 +23,7 @@ from pathlib import Path
 
 from graspframe.grasps import PALM, HumanGrasp
 from graspframe.hal.descriptions import (
+    FINGERTIP_FRAMES_KEY,
     DesignObject,
     DriveGains,
     HandDescription,
@@ -37,7 +38,7 @@ PALM_FRAME = "pg_palm_frame"
 PALM_PAD = "pg_palm_pad"
 LEFT_JAW = "pg_left_jaw_joint"
 RIGHT_JAW = "pg_right_jaw_joint"
-FINGERTIP_LINKS = ("pg_left_tip", "pg_right_tip")
+FINGERTIP_FRAMES = {"left": "pg_left_tip", "right": "pg_right_tip"}
 
 STROKE = 0.05  # [m] travel of each jaw: the opening goes from 100 mm to 0
 
@@ -127,5 +128,5 @@ PARALLEL_GRIPPER = HandDescription(
     drive=DriveGains(stiffness=2000.0, damping=20.0, force_limit=40.0),
     mass=0.59,
     summary="a two-finger parallel gripper: 100 mm stroke, two prismatic jaws",
-    extras={"fingertip_links": FINGERTIP_LINKS},
+    extras={FINGERTIP_FRAMES_KEY: FINGERTIP_FRAMES},
 )

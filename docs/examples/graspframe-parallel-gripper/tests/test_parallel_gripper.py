@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from graspframe_parallel_gripper.description import FINGERTIP_LINKS, PARALLEL_GRIPPER
+from graspframe_parallel_gripper.description import FINGERTIP_FRAMES, PARALLEL_GRIPPER
 
 from graspframe.hal.drivers import WorldConfig
 from graspframe.registry import default_registry
@@ -39,7 +39,7 @@ def fingertip_height(q_by_joint: dict[str, float]) -> float:
     model = CollisionModel(HAND.urdf())
     model.place(dict(q_by_joint))
     T_palm_root = inv_T(model.T_root_frame(HAND.palm_frame))
-    return max((T_palm_root @ model.T_root_frame(tip))[2, 3] for tip in FINGERTIP_LINKS)
+    return max((T_palm_root @ model.T_root_frame(tip))[2, 3] for tip in FINGERTIP_FRAMES.values())
 
 
 @pytest.mark.parametrize("name", sorted(HAND.preshapes))

@@ -1,0 +1,52 @@
+"""An arm spec: its base and flange, driven joints with their motion limits, home pose
+and payload, read into an `ArmDescription`; the model is cut at the flange."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+from graspframe.hal.descriptions import ArmDescription
+from graspframe.specs.model import read_drive, read_frames, read_joints, read_packages
+from graspframe.specs.reader import SpecReader
+from graspframe.urdf_model import description_model
+
+ARM_KEYS = (
+    "kind", "name", "summary", "urdf", "base_link", "flange_link", "home_q", "home_q_deg",
+    "payload", "packages", "frames", "joints", "drive",
+)  # fmt: skip
+
+
+def read_arm(reader: SpecReader, data: Mapping[str, Any]) -> ArmDescription:
+    reader.keys(data, ARM_KEYS, "the spec")
+    urdf = reader.resolve(reader.text(data, "urdf", "the spec"), "urdf")
+    packages, frames = read_packages(reader, data), read_frames(reader, data)
+    flange = reader.text(data, "flange_link", "the spec")
+    cut_below = frames[flange].parent if flange in frames else flange
+    model = description_model(urdf, packages, frames, cut_below)
+    joints, couplings = read_joints(reader, data, model, need_motion_limits=True)
+    if couplings:
+        raise reader.fail(
+            f"the arm joints include <mimic> followers ({couplings[0].follower}); name the "
+            "driven joints in [joints] names"
+        )
+    if ("home_q" in data) == ("home_q_deg" in data):
+        raise reader.fail("the spec needs home_q [rad] or home_q_deg [deg], one of them")
+    key = "home_q_deg" if "home_q_deg" in data else "home_q"
+    home_q = reader.vector(data[key], len(joints), f"{key} (one per joint)")
+    if key == "home_q_deg":
+        home_q = tuple(math.radians(v) for v in home_q)
+    return ArmDescription(
+        name=reader.text(data, "name", "the spec"),
+        model_path=urdf,
+        base_link=reader.text(data, "base_link", "the spec"),
+        flange_link=flange,
+        joints=joints,
+        home_q=home_q,
+        drive=read_drive(reader, data),
+        payload=reader.number(data, "payload", "the spec", 0.0),
+        summary=str(data.get("summary", "")),
+        packages=packages,
+        frames=frames,
+    )
