@@ -46,6 +46,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError, InputError
+from graspframe.hal.descriptions import joints_by_name
 from graspframe.hal.objects import ObjectDescription
 from graspframe.pictures import style
 from graspframe.pictures.inputs import checked_figure, checked_object_soup, contact_points, pose
@@ -128,9 +129,7 @@ class Snapshot:
     def from_moment(cls, moment: Moment, arm_joint_names: Sequence[str]) -> Snapshot:
         """A moment of an execution (strategy/execution.py), the arm's joints named in
         `arm_joint_names` order."""
-        q = dict(moment.q_hand)
-        if moment.q_arm is not None:
-            q.update(zip(arm_joint_names, moment.q_arm, strict=True))
+        q = joints_by_name(arm_joint_names, moment.q_arm, moment.q_hand)
         return cls.with_contacts(moment.label, q, moment.T_world_object, moment.contacts)
 
     @classmethod

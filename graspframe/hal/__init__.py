@@ -12,6 +12,7 @@ from graspframe.hal.descriptions import (
     HandPreshape,
     JointSpec,
     Mounting,
+    joints_by_name,
 )
 from graspframe.hal.drivers import ArmDriver, Backend, HandDriver, ObjectProbe, World, WorldConfig
 from graspframe.hal.mounted_robot import MountedRobot
@@ -41,4 +42,5 @@ __all__ = [
     "Viewer",
     "World",
     "WorldConfig",
+    "joints_by_name",
 ]

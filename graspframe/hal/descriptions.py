@@ -10,7 +10,7 @@ a particular robot.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -38,7 +38,21 @@ __all__ = [
     "HandPreshape",
     "JointSpec",
     "Mounting",
+    "joints_by_name",
 ]
+
+
+def joints_by_name(
+    arm_joint_names: Sequence[str], q_arm: ArrayLike | None, q_hand: Mapping[str, float]
+) -> dict[str, float]:
+    """Every joint's value by name [rad], for a model of the hand on its arm: the arm's,
+    an array in `arm_joint_names` order (None: a hand without an arm), and the hand's,
+    by name (with the model's mimic followers where the caller added them)."""
+    q = {name: float(value) for name, value in q_hand.items()}
+    if q_arm is not None:
+        values = np.asarray(q_arm, dtype=float).ravel()
+        q.update(zip(arm_joint_names, values.tolist(), strict=True))
+    return q
 
 
 @dataclass(frozen=True)

@@ -41,7 +41,7 @@ from numpy.typing import NDArray
 from graspframe.errors import MotionError
 from graspframe.floating_base import mount_floating
 from graspframe.grasps import HumanGrasp
-from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.hal.descriptions import ArmDescription, HandDescription, joints_by_name
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import CONTROL_PERIOD, track_waypoint
 from graspframe.motion.collision import RobotCollisionChecker, object_obstacle, table_obstacle
@@ -153,7 +153,7 @@ def path_problem(
     arm_links = summarize_urdf(robot.model).links - hand_links
 
     def configurations(path):
-        return [{**dict(zip(arm.joint_names, q, strict=True)), **full_hand_q} for q in path]
+        return [joints_by_name(arm.joint_names, q, full_hand_q) for q in path]
 
     checks: list[
         tuple[str, Sequence[NDArray[np.float64]], AbstractSet[str] | None, tuple | None]

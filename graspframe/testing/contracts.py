@@ -27,6 +27,7 @@ from graspframe.hal.descriptions import (
     HandDescription,
     JointSpec,
     Mounting,
+    joints_by_name,
 )
 from graspframe.hal.drivers import ArmDriver, Backend, World, WorldConfig
 from graspframe.hal.mounted_robot import MountedRobot
@@ -350,9 +351,8 @@ def _mounted_palm_problems(
     """The measured palm pose against the mounted model's forward kinematics at the
     measured joints."""
     model = CollisionModel(robot.model)
-    q = robot.hand.with_model_followers(world.hand.joint_positions())
-    q.update(zip(robot.arm.joint_names, arm_driver.joint_positions(), strict=True))
-    model.place(q)
+    q_hand = robot.hand.with_model_followers(world.hand.joint_positions())
+    model.place(joints_by_name(robot.arm.joint_names, arm_driver.joint_positions(), q_hand))
     T_world_palm_model = T_world_arm_base @ model.T_root_frame(robot.hand.palm_frame)
     T_world_palm = np.asarray(world.hand.T_world_palm())
     error = float(np.linalg.norm(T_world_palm[:3, 3] - T_world_palm_model[:3, 3]))

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from graspframe.contacts import Contact, PalmSensorReading
 from graspframe.errors import GraspframeError
 from graspframe.grasps import PALM
-from graspframe.hal.descriptions import ArmDescription
+from graspframe.hal.descriptions import ArmDescription, joints_by_name
 from graspframe.hal.drivers import ArmDriver, Backend, HandDriver, ObjectProbe, World, WorldConfig
 from graspframe.hal.hand_control import HandController
 from graspframe.testing.kinematic_geometry import KinematicGeometry
@@ -103,10 +103,12 @@ class KinematicHandDriver(HandDriver):
     def place(self, q_hand: Mapping[str, float] | None = None) -> None:
         """Place the model at the arm's joints and these hand joints (default: the
         current ones) [rad]."""
-        q = dict(self._q if q_hand is None else q_hand)
-        if self._arm is not None:
-            q.update(zip(self._arm.joint_names, self._arm.joint_positions(), strict=True))
-        self._geometry.place(q)
+        q_hand = self._q if q_hand is None else q_hand
+        arm = self._arm
+        if arm is None:
+            self._geometry.place(joints_by_name((), None, q_hand))
+        else:
+            self._geometry.place(joints_by_name(arm.joint_names, arm.joint_positions(), q_hand))
 
     def advance(self, dt: float) -> None:
         """Move the joints towards the controller's targets for `dt` [s], one joint at a

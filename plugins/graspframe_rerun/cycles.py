@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 import rerun as rr
 
-from graspframe.hal.descriptions import HandDescription
+from graspframe.hal.descriptions import HandDescription, joints_by_name
 from graspframe.robot_model import CollisionModel
 from graspframe.transforms import quat_xyzw_from_R
 
@@ -48,9 +48,7 @@ class RobotPoser:
 
     def q_by_joint(self, q_arm, q_hand: dict[str, float]) -> dict[str, float]:
         """Every model joint's value [rad] (arm, hand and the hand's mimic followers)."""
-        q = dict(zip(self.arm_joint_names, np.asarray(q_arm, dtype=float), strict=True))
-        q.update(self.hand.with_model_followers(q_hand))
-        return q
+        return joints_by_name(self.arm_joint_names, q_arm, self.hand.with_model_followers(q_hand))
 
     def T_world_links(self, q_by_joint: dict[str, float], links: Sequence[str]) -> np.ndarray:
         """(n_links, 4, 4) world poses of `links`, in that order."""
