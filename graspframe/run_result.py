@@ -12,7 +12,7 @@ RESULT_FORMAT), read back as plain JSON by the sweeps' tables and by users.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -136,7 +136,7 @@ class Score:
         return data
 
 
-def _with_contacts(grasp: dict, contacts_object) -> dict:
+def _with_contacts(grasp: dict, contacts_object: Sequence[Contact]) -> dict:
     """The virtual-finger dict with each virtual finger's contacts (object frame: p [m],
     n, f [N]) listed under it, taken from the real fingers it is made of."""
     for vf in grasp["virtual_fingers"]:

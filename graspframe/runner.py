@@ -14,8 +14,10 @@ import traceback
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from graspframe.defaults import (
     MOUNT_ARM,
@@ -35,7 +37,7 @@ from graspframe.events import (
     RunEvent,
     RunInfo,
 )
-from graspframe.grasps import PALM
+from graspframe.grasps import PALM, HumanGrasp
 from graspframe.hal.drivers import World, WorldConfig
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.registry import Registry, default_registry
@@ -72,7 +74,7 @@ class _Recorder:
     events: list[dict] = field(default_factory=list)
     clock: Callable[[], float | None] = lambda: None
 
-    def emit(self, kind: EventKind, **data) -> None:
+    def emit(self, kind: EventKind, **data: Any) -> None:
         """Send an event of a declared kind; its payload must match the declaration."""
         kind.check(data)
         event = RunEvent(kind.name, self.clock(), data)
@@ -145,21 +147,27 @@ def asdict_shallow(stages: _Stages) -> dict:
     return {f.name: getattr(stages, f.name) for f in fields(stages)}
 
 
-def _human_grasp(request, inputs, registry, recorder, progress) -> HumanGraspInput:
+def _human_grasp(
+    request: RunRequest,
+    inputs: RunInputs,
+    registry: Registry,
+    recorder: _Recorder,
+    progress: Progress,
+) -> HumanGraspInput:
     """The human grasp relative to the object and where the object is, from the stated
     grasp or from the image."""
     obj, human = inputs.obj, inputs.human
-    if inputs.scene is None:
-        grasp = request.grasp
-        placement = reference_placement(obj, human.preshape_for(grasp))
+    if request.grasp is not None:  # stated: no image to classify
+        placement = reference_placement(obj, human.preshape_for(request.grasp))
         T_world_object = make_T(p=[*SCENE_OBJECT_XY, TABLE_HEIGHT + obj.half_height])
-        return HumanGraspInput(grasp, placement.T_object_palm, T_world_object)
+        return HumanGraspInput(request.grasp, placement.T_object_palm, T_world_object)
 
+    scene, image = inputs.scene, inputs.image
+    assert scene is not None and image is not None  # resolve() reads both without a grasp
     progress(f"classifying the image with {request.classifier}")
     classifier = registry.get_classifier(request.classifier)()
-    estimate = classifier.classify(inputs.image)
+    estimate = classifier.classify(image)
     grasp = estimate.grasp
-    scene = inputs.scene
     R_object_palm = scene.T_camera_object[:3, :3].T @ estimate.R_camera_palm
     placement = reference_placement(obj, human.preshape_for(grasp))
     if estimate.p_camera_palm is not None:
@@ -183,7 +191,12 @@ def _human_grasp(request, inputs, registry, recorder, progress) -> HumanGraspInp
     return HumanGraspInput(grasp, T_object_palm, scene.T_world_object, classification)
 
 
-def _plan(request, inputs, human: HumanGraspInput, T_world_object_est) -> CheckedPlan:
+def _plan(
+    request: RunRequest,
+    inputs: RunInputs,
+    human: HumanGraspInput,
+    T_world_object_est: NDArray[np.float64],
+) -> CheckedPlan:
     """The grasp plan, its path checked on the arm or on the floating base."""
     if request.mount == MOUNT_FLOATING:
         return floating_plan(
@@ -203,7 +216,14 @@ def _plan(request, inputs, human: HumanGraspInput, T_world_object_est) -> Checke
     )
 
 
-def _run_stages(request, inputs, registry, recorder, stages: _Stages, progress) -> None:
+def _run_stages(
+    request: RunRequest,
+    inputs: RunInputs,
+    registry: Registry,
+    recorder: _Recorder,
+    stages: _Stages,
+    progress: Progress,
+) -> None:
     """The run's stages in order, each result kept in `stages`: the human grasp, the
     plan, the execution in a world built for it, its pictures, and the score against
     the human reference."""
@@ -253,7 +273,7 @@ def _execute_in_world(
     inputs: RunInputs,
     checked: CheckedPlan,
     config: WorldConfig,
-    T_world_object_est,
+    T_world_object_est: NDArray[np.float64],
     recorder: _Recorder,
     progress: Progress,
 ) -> Execution:
@@ -311,19 +331,26 @@ def _execute_in_world(
     )
 
 
-def _draw_snapshots(run_dir, checked, config, execution: Execution, grasp) -> Path | None:
+def _draw_snapshots(
+    run_dir: str,
+    checked: CheckedPlan,
+    config: WorldConfig,
+    execution: Execution,
+    grasp: HumanGrasp,
+) -> Path | None:
     """snapshots.png in the run folder: the robot, object, table and contacts at first
     contact, hold and after the lift (None when nothing was captured)."""
     if not execution.moments:
         return None
-    hand, arm, outcome = config.hand, checked.robot.arm, execution.outcome
+    hand, arm, outcome, obj = config.hand, checked.robot.arm, execution.outcome, config.object
+    assert obj is not None  # a run's world always holds its object
     scene = scene_of_robot(
-        checked.robot.model, checked.T_world_base, hand, config.object, config.table_height
+        checked.robot.model, checked.T_world_base, hand, obj, config.table_height
     )
     frames = [Snapshot.from_moment(m, arm.joint_names) for m in execution.moments]
     verdict = "held" if outcome.success else f"failed: {outcome.failure_reason}"
     title = (
         f"{hand.name} on {arm.name}: human {grasp.value} -> {checked.plan.preshape}, "
-        f"{config.object.name}; {verdict}"
+        f"{obj.name}; {verdict}"
     )
     return draw_snapshots(Path(run_dir) / "snapshots.png", scene, frames, title)

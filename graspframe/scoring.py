@@ -3,10 +3,12 @@ virtual-finger metric, docs/method.md) and the grasp quality of both contact set
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import replace
 
 import numpy as np
 
+from graspframe.contacts import Contact
 from graspframe.errors import GraspframeError
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.objects import ObjectDescription
@@ -56,7 +58,7 @@ def score_grasp(
     return replace(score, robot=robot_vf, human=human_vf, comparison=comparison), reference
 
 
-def contact_quality(contacts_object, obj: ObjectDescription) -> Quality:
+def contact_quality(contacts_object: Sequence[Contact], obj: ObjectDescription) -> Quality:
     """Ferrari-Canny L1 quality of contacts given in the object frame (no values without
     contacts): the object's static friction, torques about its centroid over its half
     largest dimension (docs/method.md, "Grasp quality")."""

@@ -95,7 +95,7 @@ def variants(obj: ObjectDescription, side: bool) -> Iterator[Variant]:
 
 
 def _tracked(
-    ik: IkSolver, q_start: NDArray[np.float64], T_base_world, line: PalmLine
+    ik: IkSolver, q_start: NDArray[np.float64], T_base_world: NDArray[np.float64], line: PalmLine
 ) -> list[NDArray[np.float64]]:
     """Arm configurations at a palm line's waypoints, tracked from q_start as the
     controller tracks them."""
@@ -152,7 +152,7 @@ def path_problem(
     hand_links = {link for links in hand.real_fingers.values() for link in links}
     arm_links = summarize_urdf(robot.model).links - hand_links
 
-    def configurations(path):
+    def configurations(path: Sequence[NDArray[np.float64]]) -> list[dict[str, float]]:
         return [joints_by_name(arm.joint_names, q, full_hand_q) for q in path]
 
     checks: list[

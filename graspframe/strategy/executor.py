@@ -13,6 +13,7 @@ graspframe/events.py.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -139,7 +140,7 @@ class _Strategy:
 
     # -- stages -------------------------------------------------------------------------
 
-    def _move_to_pre_approach(self, open_q) -> None:
+    def _move_to_pre_approach(self, open_q: Mapping[str, float]) -> None:
         plan, motion = self.plan, self.motion
         self.world.hand.set_joint_targets(open_q)
         self.emit(events.EXECUTE_PRESHAPE, preshape=plan.preshape)
@@ -260,7 +261,7 @@ class _Strategy:
         )
         self.emit(events.EXECUTE_BACK_OFF, gap=back_off.distance, travel=-result.travel)
 
-    def _close(self, closed_q) -> None:
+    def _close(self, closed_q: Mapping[str, float]) -> None:
         world = self.world
         world.hand.set_joint_targets(closed_q)
         names = list(closed_q)

@@ -41,6 +41,7 @@ from graspframe.floating_base import mount_floating
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.drivers import Backend, World, WorldConfig
+from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.results import read_json_file, write_json
@@ -101,7 +102,7 @@ def load_reference_file(path: Path | str) -> HumanReference:
     return _reference_from_json(read_json_file(path, "human contacts file"), path)
 
 
-def _reference_from_json(data, path: Path) -> HumanReference:
+def _reference_from_json(data: object, path: Path) -> HumanReference:
     """The reference in `data` (the file format), read from `path` (named in errors)."""
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise InputError(f'{path}: expected a JSON object with "format": "{FORMAT}"')
@@ -216,7 +217,7 @@ def _draw(
     path: Path,
     reference: HumanReference,
     held: HeldVerdict,
-    robot,
+    robot: MountedRobot,
     config: WorldConfig,
     moments: list[Snapshot],
 ) -> None:

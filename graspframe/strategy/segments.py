@@ -22,7 +22,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from graspframe.strategy.planner import GraspPlan
 
@@ -67,7 +67,7 @@ class PalmLine:
 
 
 def line(
-    name: str, T_world_palm_start: NDArray[np.float64], offset_world, speed: float
+    name: str, T_world_palm_start: NDArray[np.float64], offset_world: ArrayLike, speed: float
 ) -> PalmLine:
     """The line from T_world_palm_start by the world vector `offset_world` [m]."""
     offset = np.asarray(offset_world, dtype=float)
@@ -91,7 +91,9 @@ class PalmPath:
         return [s for s in (self.descent, self.approach, self.back_off, self.lift) if s]
 
 
-def approach_line(plan: GraspPlan, T_world_palm_goal, distance: float, speed: float) -> PalmLine:
+def approach_line(
+    plan: GraspPlan, T_world_palm_goal: NDArray[np.float64], distance: float, speed: float
+) -> PalmLine:
     """The approach to a goal along the plan's approach direction, starting `distance`
     [m] before it."""
     a = np.asarray(plan.a_world, dtype=float)

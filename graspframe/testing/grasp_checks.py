@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -45,7 +45,9 @@ DESIGN_DENSITY = 800.0
 DESIGN_FRICTION = (0.8, 0.6)  # static, dynamic: the default objects' (rubber/matt plastic)
 
 
-def _finger_distance(model: CollisionModel, links_a, links_b) -> float:
+def _finger_distance(
+    model: CollisionModel, links_a: Iterable[str], links_b: Iterable[str]
+) -> float:
     """[m] smallest distance between any shape of links_a and any shape of links_b."""
     import coal
 
