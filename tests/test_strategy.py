@@ -20,6 +20,7 @@ from graspframe.mounting import mount
 from graspframe.registry import default_registry
 from graspframe.run_request import RunRequest
 from graspframe.runner import run_grasp
+from graspframe.strategy import executor
 from graspframe.strategy.arm_path import choose_plan, path_problem
 from graspframe.strategy.executor import CENTRING_TOLERANCE
 from graspframe.strategy.hand_geometry import closing_configurations, lowest_hand_point
@@ -201,6 +202,34 @@ def test_the_chosen_arm_path_is_collision_free_and_refusals_say_why():
     assert path_problem(checked.plan, checked.robot, checked.T_world_base, hand, obj, 0.0) is None
     for reason in checked.refused:  # each refused variant names the part of the path
         assert any(part in reason for part in ("transfer", "descent", "approach", "unreachable"))
+
+
+def test_the_path_check_checks_the_segments_the_executor_drives(monkeypatch):
+    """The executor and the path check take their segments from one builder
+    (executor.planned_path): an approach changed there, sunk 8 cm into the table, is
+    what the check then refuses."""
+    hand, arm = REGISTRY.get_hand("barrett"), REGISTRY.get_arm("kuka")
+    obj = REGISTRY.get_object("large_cylinder")
+    placement = reference_placement(obj, REGISTRY.get_hand("human").preshape_for(G.LARGE_DIAMETER))
+    T_world_object = make_T(p=[*SCENE_OBJECT_XY, obj.half_height])
+    checked = choose_plan(
+        G.LARGE_DIAMETER, placement.T_object_palm, T_world_object, hand, arm, obj, 0.0, np.eye(4)
+    )
+    args = (checked.plan, checked.robot, checked.T_world_base, hand, obj, 0.0)
+    assert path_problem(*args) is None
+    built = executor.palm_path
+
+    def sunk_approach(*path_args, **path_kwargs):
+        path = built(*path_args, **path_kwargs)
+        T_start = path.approach.T_world_palm_start.copy()
+        T_start[2, 3] -= 0.08
+        return dataclasses.replace(
+            path, approach=dataclasses.replace(path.approach, T_world_palm_start=T_start)
+        )
+
+    monkeypatch.setattr(executor, "palm_path", sunk_approach)
+    problem = path_problem(*args)
+    assert problem is not None and "approach" in problem and "table" in problem
 
 
 def test_when_no_straight_mounted_path_exists_an_adapter_of_the_hand_is_tried():
