@@ -2,15 +2,21 @@
 the small commands; the bodies of the larger ones are in graspframe/commands/.
 
 Every error graspframe raises on purpose is printed as one line and exits non-zero;
-`--verbose` shows the traceback as well.
+`--verbose` shows the traceback as well. Exit codes (docs/cli.md): 0 done (`run`: the
+grasp held), 1 an error, 2 a wrong command line, 3 `run` ran but the grasp was not held,
+130 interrupted (Ctrl-C or SIGTERM).
 """
 
 from __future__ import annotations
 
 import json
 import logging
+import signal
 import sys
+import threading
 import traceback
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated
 
@@ -45,7 +51,11 @@ console = Console()
 err_console = Console(stderr=True)
 _state = {"verbose": False}
 
-EXIT_ERROR = 1
+EXIT_OK = 0  # the command did what it was asked (`run`: the grasp held)
+EXIT_ERROR = 1  # bad input, a failed stage, a bug
+EXIT_NOT_HELD = 3  # `run`: the grasp was executed and scored, but it was not held
+# (2: the command line itself is wrong, reported by typer before a command runs)
+EXIT_INTERRUPTED = 130  # Ctrl-C or SIGTERM: 128 + SIGINT, as shells report it
 
 
 def _version_callback(value: bool) -> None:
@@ -209,6 +219,8 @@ def run(
     )
     result = run_grasp(request, progress=lambda stage: err_console.print(f"[dim]· {stage}[/dim]"))
     print_run_summary(result, console)
+    held = result.outcome is not None and result.outcome.success
+    raise typer.Exit(EXIT_OK if held else EXIT_NOT_HELD)
 
 
 @app.command()
@@ -358,13 +370,48 @@ def db_build(
     raise typer.Exit(db_build_command(views_per_grasp, size, workers, seed, out))
 
 
+def _stop(signum: int, frame: object) -> None:
+    raise KeyboardInterrupt(signal.Signals(signum).name)
+
+
+@contextmanager
+def _interruptible() -> Iterator[None]:
+    """Ctrl-C (SIGINT) and SIGTERM stop a command alike: a KeyboardInterrupt in the main
+    thread, so that each stage cleans up on its way out (the world released, workers
+    killed, the recording closed, result.json marked "interrupted"). This holds also
+    where SIGINT arrives ignored, as a shell starts its background jobs."""
+    if threading.current_thread() is not threading.main_thread():  # signals need it
+        yield
+        return
+    previous = {number: signal.getsignal(number) for number in (signal.SIGINT, signal.SIGTERM)}
+    for number in previous:
+        signal.signal(number, _stop)
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler)
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point: run the app, turn deliberate errors into one line and an exit code."""
+    with _interruptible():
+        return _run_app(argv)
+
+
+def _run_app(argv: list[str] | None) -> int:
     try:
-        # Standalone mode: usage errors print their own message and raise SystemExit.
+        # Standalone mode: usage errors print their own message and raise SystemExit;
+        # typer turns a KeyboardInterrupt into the exit code 130.
         app(args=argv, prog_name="graspframe")
     except SystemExit as exc:
-        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+        code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+        if code == EXIT_INTERRUPTED:
+            err_console.print("interrupted", highlight=False)
+        return code
+    except KeyboardInterrupt:  # outside a command: while printing its last lines
+        err_console.print("interrupted", highlight=False)
+        return EXIT_INTERRUPTED
     except GraspframeError as exc:
         if _state["verbose"]:
             traceback.print_exc()

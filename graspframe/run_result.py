@@ -175,7 +175,8 @@ class RunResult:
     """One run: what was asked, how it ended, what each stage produced (None for the
     stages it did not reach) and where its files are.
 
-    status: "running" (written at the start), "ok" or "failed" (`error`, `traceback`);
+    status: "running" (written at the start), "ok", "failed" (`error`, `traceback`) or
+        "interrupted" (Ctrl-C or SIGTERM; `error` names which);
     artifacts: files the observers wrote, by name (e.g. "recording").
     """
 

@@ -101,8 +101,9 @@ def run_grasp(
 ) -> RunResult:
     """Run one grasp and write runs/<id>/result.json; returns the result.
 
-    A failure after the run folder exists is recorded (status "failed", the error) and
-    re-raised; the result file is written in every case.
+    A failure after the run folder exists is recorded (status "failed", the error; an
+    interruption: status "interrupted") and re-raised; the result file is written in
+    every case.
     """
     registry = registry or default_registry()
     progress = progress or (lambda message: None)
@@ -123,6 +124,9 @@ def run_grasp(
     try:
         _run_stages(request, inputs, registry, recorder, stages, progress)
         status = "ok"
+    except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM (the CLI names which)
+        status, error = "interrupted", f"interrupted ({exc or 'SIGINT'})"
+        raise
     except BaseException as exc:
         status, error, trace = "failed", f"{type(exc).__name__}: {exc}", traceback.format_exc()
         raise

@@ -9,11 +9,15 @@ from dataclasses import replace
 import numpy as np
 
 from graspframe.contacts import Contact
-from graspframe.errors import GraspframeError
+from graspframe.errors import GraspframeError, NoContactsError
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.objects import ObjectDescription
 from graspframe.metrics.quality import grasp_quality
-from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_contacts
+from graspframe.metrics.virtual_fingers import (
+    VirtualFingerGrasp,
+    compare,
+    virtual_fingers_from_contacts,
+)
 from graspframe.run_request import RunInputs
 from graspframe.run_result import Quality, Score
 from graspframe.strategy.arm_path import CheckedPlan
@@ -45,8 +49,8 @@ def score_grasp(
         quality_human=contact_quality(list(reference.contacts), obj),
     )
     try:
-        robot_vf = virtual_fingers_from_contacts(list(robot_contacts))
-        human_vf = virtual_fingers_from_contacts(reference.contacts)
+        robot_vf = _virtual_fingers("the robot", robot_contacts)
+        human_vf = _virtual_fingers("the human reference", reference.contacts)
         comparison = compare(
             robot_vf,
             human_vf,
@@ -56,6 +60,15 @@ def score_grasp(
     except GraspframeError as exc:
         return replace(score, error=str(exc)), reference
     return replace(score, robot=robot_vf, human=human_vf, comparison=comparison), reference
+
+
+def _virtual_fingers(side: str, contacts_object: Sequence[Contact]) -> VirtualFingerGrasp:
+    """The virtual fingers of one side's contacts; a side without contacts is named in
+    the error (the run summary lists the robot's contacts, not the human's)."""
+    try:
+        return virtual_fingers_from_contacts(list(contacts_object))
+    except NoContactsError as exc:
+        raise NoContactsError(f"{side}: {exc}") from exc
 
 
 def contact_quality(contacts_object: Sequence[Contact], obj: ObjectDescription) -> Quality:

@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import json
 import shlex
 from pathlib import Path
 
 import pytest
 
-from graspframe.cli import main
+from graspframe.cli import EXIT_NOT_HELD, EXIT_OK, main
 
 ROOT = Path(__file__).parents[1]
 COMMANDS = [
@@ -39,4 +40,11 @@ def test_documented_command_runs(args, tmp_path, monkeypatch, request):
         args = [a.replace("runs/<run>", str(run_dir)) for a in args]
         # The viewer is interactive: check the recording is found, not the window.
         monkeypatch.setattr("subprocess.call", lambda command: 0)
-    assert main(args[1:]) == 0
+    code = main(args[1:])
+    if args[1] == "run":  # ran to the end; the exit code says whether the grasp held
+        (result_path,) = (tmp_path / "runs").glob("*/result.json")
+        result = json.loads(result_path.read_text())
+        assert result["status"] == "ok"
+        assert code == (EXIT_OK if result["outcome"]["success"] else EXIT_NOT_HELD)
+    else:
+        assert code == EXIT_OK

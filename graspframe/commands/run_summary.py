@@ -46,7 +46,7 @@ def print_run_summary(result: RunResult, console: Console) -> None:
         console.print(
             f"corrections: {outcome.corrections}   palm contact: {outcome.palm_contact}   "
             f"held after a {1000 * outcome.lift_height:.0f} mm lift: {outcome.held_after_lift} "
-            f"(object rose {1000 * outcome.object_rise:.0f} mm)   "
+            f"(object rose {round(1000 * outcome.object_rise)} mm)   "
             f"held under disturbance: {disturbance}"
         )
         per_finger: dict[str, int] = {}

@@ -275,7 +275,7 @@ class HeldTest:
         if motion is not None and not self.within_bounds(motion):
             moved = f"; it moved {motion.describe()} in the hand"
         return (
-            f"the object slipped during the lift: it rose {1000 * object_rise:.0f} mm "
+            f"the object slipped during the lift: it rose {round(1000 * object_rise)} mm "
             f"of the hand's {1000 * self.lift_height:.0f} mm{moved}"
         )
 

@@ -268,7 +268,7 @@ def hold_measures(trial: HoldTrial) -> list[str]:
     lines = [f"contacts per real finger at the hold: {listing}"]
     if outcome.lift_motion is not None:
         lines.append(
-            f"lift: the object rose {1000 * outcome.object_rise:.0f} mm of "
+            f"lift: the object rose {round(1000 * outcome.object_rise)} mm of "
             f"{1000 * outcome.lift_height:.0f} mm and moved "
             f"{outcome.lift_motion.describe()} in the hand"
         )

@@ -14,9 +14,9 @@ build parameters, counts, build time).
 from __future__ import annotations
 
 import json
+import signal
 import time
 from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from multiprocessing import get_context
 from pathlib import Path
@@ -184,6 +184,12 @@ def describe_view(view: RenderedView, view_id: int) -> DescribedView:
     )
 
 
+def _leave_interrupts_to_parent() -> None:
+    """A rendering process ignores Ctrl-C (it reaches the whole process group): the
+    build's own process decides, and ends its workers."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def _describe_chunk(args) -> list[DescribedView | None]:
     view_ids, seed, size, distribution = args
     out: list[DescribedView | None] = []
@@ -222,17 +228,23 @@ def build_database(
         results = map(_describe_chunk, chunks)
         pool = None
     else:
-        pool = ProcessPoolExecutor(workers, mp_context=get_context("spawn"))
-        results = pool.map(_describe_chunk, chunks)
+        pool = get_context("spawn").Pool(workers, initializer=_leave_interrupts_to_parent)
+        results = pool.imap(_describe_chunk, chunks)
+    finished = False
     try:
         for chunk, result in zip(chunks, results, strict=True):
             rows.extend(result)
             done += len(chunk[0])
             if progress:
                 progress(done, total)
+        finished = True
     finally:
         if pool is not None:
-            pool.shutdown(cancel_futures=True)
+            if finished:
+                pool.close()
+            else:  # an error or Ctrl-C: the chunks being rendered are not waited for
+                pool.terminate()
+            pool.join()
     seconds = time.perf_counter() - start
     kept = [r for r in rows if r is not None]
     if len(kept) < max(pca_dims, len(GRASPS)):
