@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from graspframe import registry as registry_module
-from graspframe.checks import check_hand_command
+from graspframe.commands.check_hand import check_hand_command
 from graspframe.errors import UnknownNameError
 from graspframe.grasps import PALM, HumanGrasp
 from graspframe.hal import HandDescription, HandPreshape, JointSpec

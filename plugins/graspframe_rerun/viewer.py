@@ -11,7 +11,7 @@ from typing import ClassVar
 
 from graspframe.errors import NotAvailableError
 from graspframe.hal.viewer import Viewer
-from graspframe_rerun.recording import RECORDING_FILE, RECORDING_SUFFIX
+from graspframe_rerun import RECORDING_FILE, RECORDING_SUFFIX
 
 
 class RerunViewer(Viewer):
