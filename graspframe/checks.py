@@ -59,7 +59,10 @@ class CheckResult:
     def lines(self, number: int) -> list[str]:
         if self.skipped is not None:
             return [f"{number}. {self.name}: not run ({self.skipped})"]
-        verdict = "passed" if self.passed else f"FAILED ({len(self.problems)} problems)"
+        count = len(self.problems)
+        verdict = (
+            "passed" if self.passed else f"FAILED ({count} problem{'s' if count != 1 else ''})"
+        )
         lines = [f"{number}. {self.name}: {verdict}"]
         lines += [f"     {line}" for line in self.measured]
         lines += [f"     problem: {problem}" for problem in self.problems]
