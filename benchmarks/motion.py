@@ -126,7 +126,7 @@ def offline_plan_times(arm: str, hand: str) -> dict[str, float]:
 # Title, function(arm, hand) -> figures. Append further sections here.
 def simulation_real_time_factor(arm: str, hand: str) -> dict[str, float]:
     """A 5 s approach-and-close in SAPIEN: simulated seconds per wall-clock second."""
-    from graspframe_sapien.world import SapienBackend
+    from graspframe_sapien.backend import SapienBackend
 
     from graspframe.hal import WorldConfig
     from graspframe.motion.arm_motion import ArmMotion

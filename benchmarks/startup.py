@@ -2,11 +2,13 @@
 
     python benchmarks/startup.py [--repeats 3]
 
-Prints the median wall time of `graspframe --help` (the import cost every command pays)
-and of the main job, `graspframe run --hand karlsruhe` on the bundled demo with its
-recording, each in a fresh process. The main job's first run fills the cache of combined
-models and human references (GRASPFRAME_CACHE_DIR, a temporary folder unless set) and
-is reported apart; the median is over the warm runs after it.
+Prints the median wall time of `graspframe --help` (the import cost every command pays),
+of `graspframe run --hand barret` (a mistyped name: the plugins are listed and the error
+given before anything heavy is imported) and of the main job, `graspframe run --hand
+karlsruhe` on the bundled demo with its recording, each in a fresh process. The main
+job's first run fills the cache of combined models and human references
+(GRASPFRAME_CACHE_DIR, a temporary folder unless set) and is reported apart; the median
+is over the warm runs after it.
 """
 
 from __future__ import annotations
@@ -34,6 +36,17 @@ def help_wall_s() -> float:
     return time.perf_counter() - started
 
 
+def unknown_hand_wall_s() -> float:
+    """Wall time [s] of one `graspframe run --hand barret` process, which must fail with
+    the one-line "unknown hand" error."""
+    started = time.perf_counter()
+    done = subprocess.run([*GRASPFRAME, "run", "--hand", "barret"], capture_output=True, text=True)
+    wall = time.perf_counter() - started
+    if done.returncode == 0 or "unknown hand 'barret'" not in done.stderr:
+        raise SystemExit(f"expected the unknown-hand error, got: {done.stderr.strip()}")
+    return wall
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
@@ -41,6 +54,11 @@ def main() -> None:
     os.environ.setdefault("GRASPFRAME_CACHE_DIR", tempfile.mkdtemp(prefix="graspframe-cache-"))
     helps = [help_wall_s() for _ in range(args.repeats)]
     print(f"graspframe --help: median {statistics.median(helps):.2f} s over {args.repeats}")
+    unknown = [unknown_hand_wall_s() for _ in range(args.repeats)]
+    print(
+        f"graspframe run --hand barret (unknown hand): median "
+        f"{statistics.median(unknown):.2f} s over {args.repeats}"
+    )
     first = run_wall_s("karlsruhe", record=True)
     warm = [run_wall_s("karlsruhe", record=True) for _ in range(args.repeats)]
     print(

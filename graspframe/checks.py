@@ -1,4 +1,5 @@
-"""`graspframe check-hand NAME|SPEC`: check a hand and say what was checked and measured.
+"""The checks of `graspframe check-hand` (graspframe/commands/check_hand.py): what each
+checked, its verdict and what it measured.
 
 Three checks, in order, each reported with its verdict and what it measured:
 
@@ -27,14 +28,9 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import typer
-
-from graspframe import registry as registry_module
-from graspframe.defaults import DEFAULT_BACKEND
 from graspframe.grasps import HUMAN_HAND
 from graspframe.hal.descriptions import HandDescription, HandPreshape, JointSpec
 from graspframe.hal.drivers import Backend
-from graspframe.registry import Registry
 from graspframe.testing import hand_problems
 from graspframe.testing.grasp_checks import (
     OPPOSED_MAX_GAP,
@@ -63,7 +59,10 @@ class CheckResult:
     def lines(self, number: int) -> list[str]:
         if self.skipped is not None:
             return [f"{number}. {self.name}: not run ({self.skipped})"]
-        verdict = "passed" if self.passed else f"FAILED ({len(self.problems)} problems)"
+        count = len(self.problems)
+        verdict = (
+            "passed" if self.passed else f"FAILED ({count} problem{'s' if count != 1 else ''})"
+        )
         lines = [f"{number}. {self.name}: {verdict}"]
         lines += [f"     {line}" for line in self.measured]
         lines += [f"     problem: {problem}" for problem in self.problems]
@@ -225,32 +224,3 @@ def check_hand_report(
     for number, check in enumerate(checks, start=1):
         lines += check.lines(number)
     return passed, lines
-
-
-def check_hand_command(
-    name: str,
-    registry: Registry | None = None,
-    hold: bool = True,
-    backend: str = DEFAULT_BACKEND,
-    pictures: Path | None = None,
-) -> int:
-    """Check the hand `name` (registered, or a spec file); print the result; 0 if it
-    passed, else 1.
-
-    registry: where to look the hand up (default: every installed plugin). An unknown
-    name raises the registry's UnknownNameError, which lists the known hands.
-    hold: also check that the hand alone holds its design objects, in `backend`.
-    pictures: folder for the pictures of the hold trials (default runs/check-hand/NAME).
-    """
-    registry = registry or registry_module.default_registry()
-    hand = registry.get_hand(name)
-    physics = registry.get_backend(backend)() if hold else None
-    folder = pictures or Path("runs") / "check-hand" / hand.name
-
-    def progress(message: str) -> None:
-        typer.echo(f"· {message}", err=True)
-
-    passed, lines = check_hand_report(hand, physics, folder, progress)
-    for line in lines:
-        typer.echo(line)
-    return 0 if passed else 1

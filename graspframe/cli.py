@@ -192,10 +192,9 @@ def run(
     """Image of a human grasp -> robot grasp on the arm in simulation, scored.
 
     With no --grasp and no --image, the bundled demo image is classified."""
-    from graspframe.commands.run_summary import print_run_summary
     from graspframe.grasps import HumanGrasp
-    from graspframe.run_request import RunRequest
-    from graspframe.runner import run_grasp
+    from graspframe.registry import default_registry
+    from graspframe.run_request import RunRequest, resolve
 
     if grasp is not None and (image is not None or scene is not None):
         raise InputError("pass either --grasp (no vision) or --image with --scene, not both")
@@ -217,7 +216,19 @@ def run(
         lift_height=lift_height_mm / 1000.0,
         disturbance_fraction=disturbance_fraction,
     )
-    result = run_grasp(request, progress=lambda stage: err_console.print(f"[dim]· {stage}[/dim]"))
+    registry = default_registry()
+    # Every name and file is checked before the simulation's modules are imported (a
+    # second or more): a mistyped name is answered at once.
+    inputs = resolve(request, registry)
+    from graspframe.commands.run_summary import print_run_summary
+    from graspframe.runner import run_grasp
+
+    result = run_grasp(
+        request,
+        registry,
+        progress=lambda stage: err_console.print(f"[dim]· {stage}[/dim]"),
+        inputs=inputs,
+    )
     print_run_summary(result, console)
     held = result.outcome is not None and result.outcome.success
     raise typer.Exit(EXIT_OK if held else EXIT_NOT_HELD)
@@ -349,7 +360,7 @@ def check_hand(
     ] = None,
 ) -> None:
     """Check a hand plugin against the contract and say, in plain words, what is wrong."""
-    from graspframe.checks import check_hand_command
+    from graspframe.commands.check_hand import check_hand_command
 
     raise typer.Exit(check_hand_command(name, hold=hold, backend=backend, pictures=pictures))
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -26,7 +27,10 @@ from graspframe.hal.objects import ObjectDescription
 from graspframe.registry import Registry
 from graspframe.scene import Scene, check_on_table, load_scene
 from graspframe.strategy.held_test import HeldTest
-from graspframe.strategy.human_reference import HumanReference, load_reference_file
+
+if TYPE_CHECKING:
+    # The human reference's simulation and pictures load after the names are looked up.
+    from graspframe.strategy.human_reference import HumanReference
 
 MAX_OBJECT_ERROR = 0.5  # [m] larger injected errors are surely a unit mistake
 MAX_LIFT_HEIGHT = 0.3  # [m] a higher lift leaves the arm's comfortable workspace
@@ -158,7 +162,11 @@ def resolve(request: RunRequest, registry: Registry) -> RunInputs:
         raise InputError(
             f"object error {request.object_error} m is not finite or above {MAX_OBJECT_ERROR} m"
         )
-    reference_file = load_reference_file(request.human_contacts) if request.human_contacts else None
+    reference_file = None
+    if request.human_contacts:
+        from graspframe.strategy.human_reference import load_reference_file
+
+        reference_file = load_reference_file(request.human_contacts)
     human = registry.get_hand(HUMAN_HAND)
     reference_backend_cls = registry.get_backend(DEFAULT_BACKEND)
     return RunInputs(

@@ -97,17 +97,22 @@ class _Stages:
 
 
 def run_grasp(
-    request: RunRequest, registry: Registry | None = None, progress: Progress | None = None
+    request: RunRequest,
+    registry: Registry | None = None,
+    progress: Progress | None = None,
+    inputs: RunInputs | None = None,
 ) -> RunResult:
     """Run one grasp and write runs/<id>/result.json; returns the result.
 
+    inputs: `resolve(request, registry)` when the caller has checked the request already
+    (the command line does, before it imports this module); else resolved here.
     A failure after the run folder exists is recorded (status "failed", the error; an
     interruption: status "interrupted") and re-raised; the result file is written in
     every case.
     """
     registry = registry or default_registry()
     progress = progress or (lambda message: None)
-    inputs = resolve(request, registry)
+    inputs = inputs or resolve(request, registry)
     label = request.grasp.value if request.grasp else Path(request.image or "demo").stem
     run_dir = new_run_dir(request.out_root, f"{inputs.hand.name}-{label}")
     arm = inputs.arm if request.mount == MOUNT_ARM else None

@@ -9,16 +9,28 @@ component order: `quat_wxyz` (SAPIEN) or `quat_xyzw` (Pinocchio, rerun, scipy).
 from __future__ import annotations
 
 import warnings
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.spatial.transform import Rotation
 
 from graspframe.errors import GraspframeError
+
+if TYPE_CHECKING:
+    from scipy.spatial.transform import Rotation
 
 Mat4 = NDArray[np.float64]
 Mat3 = NDArray[np.float64]
 Vec3 = NDArray[np.float64]
+
+
+def _rotation() -> type[Rotation]:
+    """scipy's Rotation, imported at the first conversion: scipy.spatial takes about
+    0.3 s to import, and the hands and arms are described without it (a mistyped name on
+    the command line is answered before it loads)."""
+    from scipy.spatial.transform import Rotation
+
+    return Rotation
 
 
 def make_T(R: ArrayLike | None = None, p: ArrayLike | None = None) -> Mat4:
@@ -55,24 +67,24 @@ def rotate_vectors(T_or_R_a_b: ArrayLike, v_b: ArrayLike) -> NDArray[np.float64]
 
 
 def R_from_quat_xyzw(quat_xyzw: ArrayLike) -> Mat3:
-    return Rotation.from_quat(np.asarray(quat_xyzw, dtype=float)).as_matrix()
+    return _rotation().from_quat(np.asarray(quat_xyzw, dtype=float)).as_matrix()
 
 
 def R_from_quat_wxyz(quat_wxyz: ArrayLike) -> Mat3:
-    return Rotation.from_quat(np.asarray(quat_wxyz, dtype=float), scalar_first=True).as_matrix()
+    return _rotation().from_quat(np.asarray(quat_wxyz, dtype=float), scalar_first=True).as_matrix()
 
 
 def quat_xyzw_from_R(R: ArrayLike) -> NDArray[np.float64]:
-    return Rotation.from_matrix(np.asarray(R, dtype=float)).as_quat()
+    return _rotation().from_matrix(np.asarray(R, dtype=float)).as_quat()
 
 
 def quat_wxyz_from_R(R: ArrayLike) -> NDArray[np.float64]:
-    return Rotation.from_matrix(np.asarray(R, dtype=float)).as_quat(scalar_first=True)
+    return _rotation().from_matrix(np.asarray(R, dtype=float)).as_quat(scalar_first=True)
 
 
 def R_from_rpy(roll: float, pitch: float, yaw: float) -> Mat3:
     """URDF convention: fixed-axis X-Y-Z rotations, R = Rz(yaw) Ry(pitch) Rx(roll)."""
-    return Rotation.from_euler("xyz", [roll, pitch, yaw]).as_matrix()
+    return _rotation().from_euler("xyz", [roll, pitch, yaw]).as_matrix()
 
 
 def rpy_from_R(R: ArrayLike) -> NDArray[np.float64]:
@@ -80,13 +92,13 @@ def rpy_from_R(R: ArrayLike) -> NDArray[np.float64]:
     roll and yaw turn about the same axis: yaw is 0 and roll takes the whole turn."""
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="Gimbal lock detected")
-        return Rotation.from_matrix(np.asarray(R, dtype=float)).as_euler("xyz")
+        return _rotation().from_matrix(np.asarray(R, dtype=float)).as_euler("xyz")
 
 
 def R_from_axis_angle(axis: ArrayLike, angle: float) -> Mat3:
     """The rotation by `angle` [rad] about `axis` (any non-zero length)."""
     axis = np.asarray(axis, dtype=float)
-    return Rotation.from_rotvec(axis / np.linalg.norm(axis) * angle).as_matrix()
+    return _rotation().from_rotvec(axis / np.linalg.norm(axis) * angle).as_matrix()
 
 
 def rotation_angle(R_a: ArrayLike, R_b: ArrayLike) -> float:

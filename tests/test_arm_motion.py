@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from graspframe_sapien.world import SapienBackend
+from graspframe_sapien.backend import SapienBackend
 
 from graspframe.hal import ObjectDescription, WorldConfig
 from graspframe.motion.arm_motion import ArmMotion

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from graspframe import registry as registry_module
-from graspframe.checks import check_hand_command
+from graspframe.commands.check_hand import check_hand_command
 from graspframe.errors import UnknownNameError
 from graspframe.grasps import PALM, HumanGrasp
 from graspframe.hal import HandDescription, HandPreshape, JointSpec
@@ -132,3 +132,12 @@ def test_the_default_registry_is_used_when_none_is_given(fake_hand, monkeypatch,
 def test_an_unknown_hand_is_the_registrys_error(fake_hand):
     with pytest.raises(UnknownNameError, match="fake_hand"):
         check_hand_command("no_such_hand", registry=_registry_with(fake_hand))
+
+
+def test_one_problem_is_counted_in_the_singular(fake_hand_urdf, capsys):
+    fingers = {PALM: ("fk_base",), "finger": ("fk_finger",), "thumb": ()}  # one defect
+    hand = make_fake_hand(fake_hand_urdf, name="thumbless_hand", real_fingers=fingers)
+    assert check_hand_command("thumbless_hand", registry=_registry_with(hand), hold=False) == 1
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[1].startswith("1. the description against its model")
+    assert lines[1].endswith(": FAILED (1 problem)"), lines[1]

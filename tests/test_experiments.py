@@ -3,6 +3,7 @@ summary."""
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import multiprocessing
@@ -15,8 +16,10 @@ import time
 from pathlib import Path
 
 import pytest
+from rich.console import Console
 
-from graspframe.experiments.summary import plot_summary, summarize, write_tables
+from graspframe.commands.evaluate import print_summary
+from graspframe.experiments.summary import plot_summary, summarize, summary_table, write_tables
 from graspframe.experiments.sweep import SweepConfig, load_finished, plan_trials, run_sweep
 from graspframe.experiments.trials import TrialSpec, experiment_b_errors, run_trial_isolated
 from graspframe.experiments.workers import run_in_workers
@@ -248,3 +251,43 @@ def test_one_and_two_workers_give_the_same_rows(tmp_path, cache_env):
     assert all(row["status"] == "ok" for row in one)
     assert one[0] == one[2]
     assert sorted(rows(2), key=json.dumps) == sorted(one, key=json.dumps)
+
+
+def _trial_row(hand: str, grasp: str, condition: str, success: bool) -> dict:
+    return {
+        "trial_id": f"arm/{hand}/{grasp}/{condition}", "mount": "arm", "hand": hand,
+        "grasp": grasp, "condition": condition, "status": "ok", "success": success,
+        "held_after_lift": True, "held_under_disturbance": success,
+        "position_err_mm": 12.345, "orientation_err_deg": 3.21, "robot_vf": 2.5,
+        "human_vf": 3.0, "robot_epsilon": 0.0123, "human_epsilon": 0.0345,
+        "robot_volume": 1.2e-5, "human_volume": 3e-6, "human_held": True,
+    }  # fmt: skip
+
+
+def test_the_summary_prints_as_terminal_tables_with_nothing_cut():
+    """One table per experiment, in rich's box characters rather than markdown; units in
+    the headers kept; on a console narrower than a table, every row still whole."""
+    rows = [
+        _trial_row(hand, grasp, condition, success=condition != "B1")
+        for hand in ("barrett", "karlsruhe")
+        for grasp in ("large_diameter", "pinch")
+        for condition in ("A", "B0", "B1", "A125")
+    ]
+    summary = summarize(rows)
+    console = Console(record=True, width=80, file=io.StringIO())
+    print_summary(summary, console)
+    text = console.export_text()
+    lines = text.splitlines()
+
+    assert "Experiment A: perfect perception" in text
+    assert "Experiment B: object position error" in text
+    assert "|---" not in text and "───" in text
+    for unit in ("[mm]", "[deg]"):
+        assert sum(unit in line for line in lines) == 2, unit  # in table A and in table B
+    table_b = next(k for k, line in enumerate(lines) if "Experiment B" in line)
+    for experiment, table_lines in (("A", lines[:table_b]), ("B", lines[table_b:])):
+        _, table_rows = summary_table(summary, experiment)
+        for cells in table_rows:  # on one line, each value whole
+            line = next(line for line in table_lines if line.split()[:3] == cells[:3])
+            assert line.split() == [word for cell in cells for word in cell.split()]
+    assert "held: lifted 5 cm" in text

@@ -10,7 +10,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 from graspframe_human.taxonomy import EXPECTED_CONTACTS, contact_problems
-from graspframe_sapien.world import SapienBackend
+from graspframe_sapien.backend import SapienBackend
 
 from graspframe.contacts import Contact
 from graspframe.grasps import HumanGrasp

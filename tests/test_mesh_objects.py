@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import trimesh
+from graspframe_sapien.backend import SapienBackend
 from graspframe_sapien.scene_objects import MAX_COOKING_CHANGE, cooking_change
-from graspframe_sapien.world import SapienBackend
 
 from graspframe.errors import DescriptionError, GraspframeError
 from graspframe.grasps import HumanGrasp

@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 from graspframe_sapien.articulation import active_joints, create_scene, load_articulation
-from graspframe_sapien.world import SapienBackend
+from graspframe_sapien.backend import SapienBackend
 
 from graspframe.errors import GraspframeError, UnknownNameError
 from graspframe.hal import WorldConfig

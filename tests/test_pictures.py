@@ -18,6 +18,7 @@ from graspframe.pictures import style
 from graspframe.pictures.hand_grasp import PANEL_PX, draw_hand_grasp
 from graspframe.pictures.meshes import MAX_TRIANGLES, decimate, robot_meshes
 from graspframe.pictures.render3d import Camera, Placed, Soup, fit_view, visible
+from graspframe.pictures.sheet import GAP, MARGIN, PANEL_EDGE, compose
 from graspframe.registry import default_registry
 from graspframe.strategy.reference_poses import R_object_palm_for_design
 from graspframe.testing.grasp_checks import design_object
@@ -134,3 +135,49 @@ def test_bad_hand_picture_input_is_one_line(tmp_path: Path, karlsruhe_wrap):
             draw_hand_grasp(**arguments)
         assert "\n" not in str(info.value)
     assert not path.exists()
+
+
+def _above_the_panels(sheet: np.ndarray) -> np.ndarray:
+    """The band of a sheet above its panels (title and column headers): down to the top
+    of the first panel's frame, a long vertical run of the frame's grey."""
+    edge_column = sheet[:, MARGIN - 1]
+    for top in range(len(sheet)):
+        if np.all(edge_column[top : top + 20] == PANEL_EDGE):
+            return sheet[:top]
+    raise AssertionError("no panel frame found")
+
+
+def _white(pixels: np.ndarray) -> bool:
+    return bool(np.all(pixels == 255))
+
+
+LONG_HEADERS = (
+    "hold\n16 contacts: index 1, little 2, middle 3, palm 7, ring 1, thumb 2",
+    "after lift (object out of view)\n"
+    "ycb_005_tomato_soup_can_lying_on_its_side_after_the_lift: 1 contact, palm 1",
+    "released\nno contacts",
+)
+
+
+def test_column_headers_stay_within_their_columns():
+    """However long a column's header (contacts of every finger, an object's long name
+    that no space breaks), its text stays over its own panel: the gaps between the
+    panels and the margins stay white above them."""
+    panel_w, columns = 220, len(LONG_HEADERS)
+    panels = [[np.full((100, panel_w, 3), 255, np.uint8)] * columns]
+    sheet = compose("", LONG_HEADERS, [], panels, [])
+    band = _above_the_panels(sheet)
+    assert not _white(band), "no header drawn"
+    assert _white(band[:, :MARGIN]) and _white(band[:, -MARGIN:])
+    for column in range(columns - 1):
+        right_edge = MARGIN + column * (panel_w + GAP) + panel_w
+        assert _white(band[:, right_edge + 1 : right_edge + GAP - 1]), f"gap after {column}"
+
+
+def test_the_title_stays_within_the_margins():
+    long_word = "ycb_005_tomato_soup_can_lying_on_its_side_after_the_lift_" * 2
+    panels = [[np.full((100, 150, 3), 255, np.uint8)] * 2]
+    sheet = compose(f"human pinch, {long_word}; held", ["", ""], [], panels, [])
+    band = _above_the_panels(sheet)
+    assert not _white(band), "no title drawn"
+    assert _white(band[:, :MARGIN]) and _white(band[:, -MARGIN:])

@@ -3,11 +3,12 @@ run folder's recording.rrd in the rerun viewer."""
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from typing import ClassVar
 
 import pytest
-from graspframe_rerun.viewer import RerunViewer
+from graspframe_rerun.viewer import DISPLAY_VARIABLES, RerunViewer
 
 from graspframe.cli import main
 from graspframe.commands.review import review_command
@@ -27,7 +28,21 @@ def run_dir(tmp_path) -> Path:
 
 
 @pytest.fixture
-def viewer_calls(monkeypatch) -> list[list[str]]:
+def display(monkeypatch) -> None:
+    """A display for the native viewer, as on a desktop (this machine may have none)."""
+    for name in DISPLAY_VARIABLES:
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.setenv("DISPLAY", ":0")
+
+
+@pytest.fixture
+def no_display(monkeypatch) -> None:
+    for name in DISPLAY_VARIABLES:
+        monkeypatch.delenv(name, raising=False)
+
+
+@pytest.fixture
+def viewer_calls(monkeypatch, display) -> list[list[str]]:
     """The viewer program's command lines, instead of opening a window."""
     calls: list[list[str]] = []
     monkeypatch.setattr("shutil.which", lambda name: f"/opt/bin/{name}")
@@ -59,13 +74,45 @@ def test_a_folder_without_a_recording_is_one_line(run_dir, capsys):
         review_command(run_dir / "result.json")  # not a recording
 
 
-def test_a_missing_viewer_program_is_one_line(run_dir, monkeypatch, tmp_path, capsys):
+def test_a_missing_viewer_program_is_one_line(run_dir, monkeypatch, tmp_path, capsys, display):
     monkeypatch.setattr("shutil.which", lambda name: None)
     monkeypatch.setattr("sys.executable", str(tmp_path / "bin" / "python"))
     assert main(["review", str(run_dir)]) == 1
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) <= 2
     assert "the rerun viewer is not installed (it ships with rerun-sdk)" in " ".join(err.split())
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the display variables of Linux")
+@pytest.mark.parametrize("variable", DISPLAY_VARIABLES)
+def test_any_display_variable_lets_the_native_viewer_open(
+    variable, run_dir, viewer_calls, monkeypatch
+):
+    monkeypatch.delenv("DISPLAY")
+    monkeypatch.setenv(variable, "wayland-0" if variable.startswith("WAYLAND") else ":1")
+    assert review_command(run_dir) == 3
+    assert len(viewer_calls) == 1
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the display variables of Linux")
+def test_without_a_display_review_says_how_to_view_the_recording(
+    run_dir, monkeypatch, capsys, no_display
+):
+    """No window is tried (rerun's own error would be a raw winit EventLoopError): one
+    line saying how to view the recording elsewhere, and exit 1."""
+    calls: list[list[str]] = []
+    monkeypatch.setattr("shutil.which", lambda name: f"/opt/bin/{name}")
+    monkeypatch.setattr("subprocess.call", lambda command: calls.append(command) or 0)
+    assert main(["review", str(run_dir)]) == 1
+    assert calls == []
+    err = capsys.readouterr().err.strip()
+    recording = run_dir / "recording.rrd"
+    assert len(err.splitlines()) <= 3  # one message, which rich may wrap
+    assert " ".join(err.split()) == (
+        "error: no display for the rerun viewer (DISPLAY, WAYLAND_DISPLAY, WAYLAND_SOCKET "
+        f"unset): view the recording in a browser with `rerun --web-viewer {recording}`, or "
+        f"copy {recording} to a machine with a display and run `rerun recording.rrd` there"
+    )
 
 
 def test_without_a_viewer_no_plugin_can_show_the_run(run_dir):

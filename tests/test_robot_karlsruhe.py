@@ -578,7 +578,7 @@ def test_sphere_and_disc_differ_in_the_thumb_and_in_the_finger_curl(fk):
 def hand_alone_run(grasp: HumanGrasp, object_name: str | None = None):
     """The grasp as `graspframe run --hand karlsruhe --grasp G --mount floating` runs it:
     the human reference palm pose, the hand on the free base, the object on the table."""
-    from graspframe_sapien.world import SapienBackend
+    from graspframe_sapien.backend import SapienBackend
 
     from graspframe.defaults import SCENE_OBJECT_XY, TABLE_HEIGHT
     from graspframe.hal.drivers import WorldConfig

@@ -9,7 +9,7 @@ import sys
 
 import numpy as np
 import pytest
-from graspframe_sapien.world import SapienBackend
+from graspframe_sapien.backend import SapienBackend
 
 from graspframe.grasps import PALM
 from graspframe.hal import ObjectDescription, WorldConfig
@@ -159,7 +159,7 @@ from graspframe.registry import default_registry
 from graspframe.hal import WorldConfig
 from graspframe.mounting import mount
 from graspframe.transforms import make_T
-from graspframe_sapien.world import SapienBackend
+from graspframe_sapien.backend import SapienBackend
 r = default_registry()
 arm, hand, can = r.get_arm("kuka"), r.get_hand("barrett"), r.get_object("large_cylinder")
 config = WorldConfig(hand=hand, robot=mount(arm, hand), object=can, seed=3,

@@ -10,7 +10,7 @@ import hashlib
 import pytest
 from conftest import LEAP_HAND_SPEC, PANDA_SPEC
 
-from graspframe.checks import check_hand_command
+from graspframe.commands.check_hand import check_hand_command
 from graspframe.grasps import HumanGrasp
 from graspframe.registry import default_registry
 from graspframe.run_request import RunRequest

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 import sapien
 from conftest import THIRD_PARTY
+from graspframe_sapien.backend import SapienBackend
 from graspframe_sapien.scene_objects import MAX_COOKING_CHANGE, cooking_change
-from graspframe_sapien.world import SapienBackend
 from graspframe_ycb.plugin import YCB_DIR_ENV, YCB_OBJECTS, ycb_objects
 
 from graspframe.defaults import SCENE_OBJECT_XY, TABLE_HEIGHT

@@ -1,6 +1,7 @@
 """`graspframe evaluate`: the command's options checked and turned into a sweep
-(`sweep_config`), then the sweep run with a progress bar and its tables printed
-(`run_evaluation`). cli.py holds the options and their help."""
+(`sweep_config`), then the sweep run with a progress bar and its summary printed as a
+table per experiment (`run_evaluation`, `print_summary`). cli.py holds the options and
+their help."""
 
 from __future__ import annotations
 
@@ -123,7 +124,33 @@ def run_evaluation(config: SweepConfig, console: Console, err_console: Console) 
     summary = summarize(rows)
     csv_path, md_path = write_tables(summary, out)
     figure = plot_summary(summary, out / "summary.png")
-    console.print(md_path.read_text(), markup=False, highlight=False)
+    print_summary(summary, console)
     console.print(
         f"trials: {out / 'trials.jsonl'}\nsummary: {csv_path}, {md_path}\nfigure: {figure}"
     )
+
+
+def print_summary(summary: list[dict], console: Console) -> None:
+    """The summary as terminal tables, one per experiment (summary.md has them in one
+    markdown table), then the note that explains them."""
+    from rich import box
+    from rich.table import Table
+    from rich.text import Text
+
+    from graspframe.experiments.summary import TABLE_NOTE, summary_table
+
+    titles = {"A": "Experiment A: perfect perception", "B": "Experiment B: object position error"}
+    for experiment, title in titles.items():
+        headers, rows = summary_table(summary, experiment)
+        table = Table(title=title, box=box.SIMPLE_HEAD, padding=(0, 1))
+        for column, header in enumerate(headers):
+            # Never narrower than its widest cell or header word: headers wrap between
+            # words, values are never cut. Text: "[mm]" is not read as markup.
+            widest = max([len(cells[column]) for cells in rows] + [len(w) for w in header.split()])
+            table.add_column(Text(header), min_width=widest)
+        for cells in rows:
+            table.add_row(*(Text(cell) for cell in cells))
+        # Wider than the console: printed whole (a terminal wraps the lines; a file or
+        # a pipe keeps them), not cut at its edge.
+        console.print(table, crop=False)
+    console.print(TABLE_NOTE, markup=False, highlight=False)

@@ -16,7 +16,8 @@ from graspframe.registry import Registry, default_registry
 def review_command(run: Path, registry: Registry | None = None) -> int:
     """Open the recording of the run folder (or recording file) `run`; returns the
     viewer's exit code. One-line errors: no plugin offers a viewer; no viewer finds a
-    recording there; the viewer cannot start."""
+    recording there; the viewer cannot start (not installed; no display here, when the
+    error says how else to view the recording)."""
     registry = registry or default_registry()
     viewers = [entry.item() for entry in registry.entries("viewer")]
     if not viewers:

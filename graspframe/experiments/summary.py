@@ -138,6 +138,77 @@ def _held(success, after_lift) -> str:
     return "lift only" if after_lift else "no"
 
 
+# Below the table, in summary.md and on the terminal.
+TABLE_NOTE = (
+    "held: lifted 5 cm and kept in the hand while pushed along +-x, +-y, +-z with half "
+    "the object's weight; 'lift only': lifted, then slipped when pushed. "
+    "B held (lift): held in n of the directions (held after the lift in m). "
+    "epsilon, volume: Ferrari-Canny L1 grasp quality and grasp wrench space volume "
+    "(docs/method.md); A human held: the simulated human reference grasp passes the "
+    "same held test."
+)
+
+
+def _size_conditions_of(summary: list[dict]) -> list[str]:
+    """The A-at-another-size conditions ("A075", ...) of the summary's columns."""
+    extra = [k for k in (summary[0] if summary else {}) if k not in (*COLUMNS, OBJECT)]
+    return [k.removesuffix("_success") for k in extra if k.endswith("_success")]
+
+
+def summary_table(
+    summary: list[dict], experiment: str | None = None
+) -> tuple[list[str], list[list[str]]]:
+    """The summary as a table for people: (headers, rows of cells as text). Without
+    `experiment`, every column, as in summary.md; with "A" or "B", the columns naming
+    the row and those of that experiment, headers without its letter (the terminal
+    prints one table per experiment: all columns at once are too wide for it)."""
+    objects = any(OBJECT in row for row in summary)
+    sizes = _size_conditions_of(summary)
+    names = ["mount", "hand", "grasp", *(["object"] if objects else [])]
+    a_headers = [
+        "held", "pos err [mm]", "ori err [deg]", "VF robot/human", "epsilon robot/human",
+        "volume robot/human", "human held",
+    ]  # fmt: skip
+    b_headers = ["held (lift)", "pos err [mm]", "ori err [deg]", "VF robot (mean)"]
+    size_headers = [f"held at {int(c[1:])}%" for c in sizes]
+    if experiment == "A":
+        headers = [*names, *a_headers, *size_headers]
+    elif experiment == "B":
+        headers = [*names, *b_headers, "failures (A and B)"]
+    else:
+        headers = [
+            *names, *(f"A {h}" for h in a_headers), *(f"B {h}" for h in b_headers),
+            *(f"A {h}" for h in size_headers), "failures",
+        ]  # fmt: skip
+    rows = []
+    for r in summary:
+        name_cells = [r["mount"], r["hand"], r["grasp"], *([r.get(OBJECT, "-")] if objects else [])]
+        a_cells = [
+            _held(r["A_success"], r["A_held_after_lift"]),
+            _cell(r["A_position_err_mm"]),
+            _cell(r["A_orientation_err_deg"]),
+            f"{_cell(r['A_robot_vf'])}/{_cell(r['A_human_vf'])}",
+            f"{_cell(r['A_robot_epsilon'], 3)}/{_cell(r['A_human_epsilon'], 3)}",
+            f"{_volume(r['A_robot_volume'])}/{_volume(r['A_human_volume'])}",
+            _cell(r["A_human_held"]),
+        ]
+        b_cells = [
+            _b_held(r),
+            _cell(r["B_position_err_mm"]),
+            _cell(r["B_orientation_err_deg"]),
+            _cell(r["B_robot_vf_mean"]),
+        ]
+        size_cells = [_held(r[f"{c}_success"], r[f"{c}_held_after_lift"]) for c in sizes]
+        failures = str(r["failures"])
+        if experiment == "A":
+            rows.append([*name_cells, *a_cells, *size_cells])
+        elif experiment == "B":
+            rows.append([*name_cells, *b_cells, failures])
+        else:
+            rows.append([*name_cells, *a_cells, *b_cells, *size_cells, failures])
+    return headers, rows
+
+
 def write_tables(summary: list[dict], out_dir: Path) -> tuple[Path, Path]:
     """summary.csv and summary.md in out_dir."""
     csv_path, md_path = Path(out_dir) / "summary.csv", Path(out_dir) / "summary.md"
@@ -150,43 +221,13 @@ def write_tables(summary: list[dict], out_dir: Path) -> tuple[Path, Path]:
     for row in summary:
         writer.writerow({k: ("" if row.get(k) is None else row[k]) for k in writer.fieldnames})
     atomic_write(csv_path, table.getvalue())
-    sizes = [k.removesuffix("_success") for k in size_columns if k.endswith("_success")]
-    size_headers = "".join(f" | A held at {int(c[1:])}%" for c in sizes)
-    object_header = " | object" if objects else ""
+    headers, rows = summary_table(summary)
     lines = [
-        f"| mount | hand | grasp{object_header} | A held | A pos err [mm] | A ori err [deg] "
-        "| A VF robot/human "
-        "| A epsilon robot/human | A volume robot/human | A human held "
-        "| B held (lift) | B pos err [mm] | B ori err [deg] | B VF robot (mean)"
-        f"{size_headers} | failures |",
-        "|---" * (15 + objects + len(sizes)) + "|",
-    ]
-    for r in summary:
-        size_cells = "".join(
-            f" | {_held(r[f'{c}_success'], r[f'{c}_held_after_lift'])}" for c in sizes
-        )
-        object_cell = f" | {r.get(OBJECT, '-')}" if objects else ""
-        lines.append(
-            f"| {r['mount']} | {r['hand']} | {r['grasp']}{object_cell} "
-            f"| {_held(r['A_success'], r['A_held_after_lift'])} "
-            f"| {_cell(r['A_position_err_mm'])} | {_cell(r['A_orientation_err_deg'])} "
-            f"| {_cell(r['A_robot_vf'])}/{_cell(r['A_human_vf'])} "
-            f"| {_cell(r['A_robot_epsilon'], 3)}/{_cell(r['A_human_epsilon'], 3)} "
-            f"| {_volume(r['A_robot_volume'])}/{_volume(r['A_human_volume'])} "
-            f"| {_cell(r['A_human_held'])} "
-            f"| {_b_held(r)} "
-            f"| {_cell(r['B_position_err_mm'])} "
-            f"| {_cell(r['B_orientation_err_deg'])} | {_cell(r['B_robot_vf_mean'])}"
-            f"{size_cells} | {r['failures']} |"
-        )
-    lines += [
+        f"| {' | '.join(headers)} |",
+        "|---" * len(headers) + "|",
+        *(f"| {' | '.join(cells)} |" for cells in rows),
         "",
-        "held: lifted 5 cm and kept in the hand while pushed along +-x, +-y, +-z with half "
-        "the object's weight; 'lift only': lifted, then slipped when pushed. "
-        "B held (lift): held in n of the directions (held after the lift in m). "
-        "epsilon, volume: Ferrari-Canny L1 grasp quality and grasp wrench space volume "
-        "(docs/method.md); A human held: the simulated human reference grasp passes the "
-        "same held test.",
+        TABLE_NOTE,
     ]
     atomic_write(md_path, "\n".join(lines) + "\n")
     return csv_path, md_path

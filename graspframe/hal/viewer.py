@@ -27,5 +27,6 @@ class Viewer(ABC):
     @abstractmethod
     def show(self, recording: Path) -> int:
         """Open `recording` (as `find` gave it); returns the viewer's exit code once it
-        closes. Raises a GraspframeError (one line) when the viewer cannot start, e.g.
-        it is not installed."""
+        closes. Raises a GraspframeError (one line) when the viewer cannot start: it is
+        not installed, or it needs a display and there is none (then the error says how
+        else to view the recording: a web viewer, or another machine)."""

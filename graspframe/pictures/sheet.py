@@ -87,19 +87,33 @@ def _font(size: int):
 
 
 def _wrap(draw, text: str, font, width: float) -> list[str]:
-    """Lines of `text` (its own line breaks kept) no wider than `width` pixels."""
+    """Lines of `text` (its own line breaks kept) no wider than `width` pixels: broken
+    between words, and inside a word (an object's long name) only where it alone is
+    wider."""
     lines = []
     for paragraph in text.split("\n"):
         line = ""
         for word in paragraph.split(" "):
             candidate = word if not line else f"{line} {word}"
-            if line and draw.textlength(candidate, font=font) > width:
-                lines.append(line)
-                line = word
-            else:
+            if draw.textlength(candidate, font=font) <= width:
                 line = candidate
+                continue
+            if line:
+                lines.append(line)
+            *whole, line = _pieces(draw, word, font, width)
+            lines += whole
         lines.append(line)
     return lines
+
+
+def _pieces(draw, word: str, font, width: float) -> list[str]:
+    """`word` cut into pieces no wider than `width` pixels (one piece when it fits)."""
+    pieces = [""]
+    for character in word:
+        if pieces[-1] and draw.textlength(pieces[-1] + character, font=font) > width:
+            pieces.append("")
+        pieces[-1] += character
+    return pieces
 
 
 def _legend_rows(draw, entries: Sequence[LegendEntry], font, width: float):
@@ -113,7 +127,7 @@ def _legend_rows(draw, entries: Sequence[LegendEntry], font, width: float):
             x = 0.0
         rows[-1].append((x, entry))
         x += entry_width
-    return rows
+    return [row for row in rows if row]  # no legend: no row
 
 
 def compose(

@@ -216,7 +216,7 @@ def choose_plan(
             refused.append(f"{_describe(variant)}: {problem}")
     raise PlanningError(
         f"no collision-free path for the {hand.name} {grasp.value} grasp on {arm.name} "
-        f"({len(refused)} variants tried; first: {refused[0]})"
+        f"({len(refused)} variant{'s' if len(refused) != 1 else ''} tried; first: {refused[0]})"
     )
 
 

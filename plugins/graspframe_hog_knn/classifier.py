@@ -14,7 +14,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -24,12 +24,11 @@ from graspframe.hal.classifier import Classifier, ClassifierPicture, HumanGraspE
 from graspframe.transforms import R_from_quat_xyzw
 from graspframe.vision.common import unmirror, weighted_vote
 from graspframe.vision.images import check_image
-from graspframe_hog_knn.database import ViewDatabase, load_database
-from graspframe_hog_knn.features import hog_descriptor
 from graspframe_hog_knn.index import NeighbourIndex
-from graspframe_hog_knn.rotations import average_rotations
-from graspframe_hog_knn.segmentation import HandCrop, segment_hand
-from graspframe_hog_knn.views import GRASPS
+
+if TYPE_CHECKING:
+    from graspframe_hog_knn.database import ViewDatabase
+    from graspframe_hog_knn.segmentation import HandCrop
 
 DEFAULT_K = 8
 DEFAULT_FOV_X_DEG = 60.0  # [deg] assumed horizontal field of view for p_camera_palm
@@ -106,6 +105,8 @@ class HogKnnClassifier(Classifier):
     @property
     def database(self) -> ViewDatabase:
         if self._database is None:
+            from graspframe_hog_knn.database import load_database
+
             self._database = load_database(self.database_path)
         return self._database
 
@@ -121,6 +122,11 @@ class HogKnnClassifier(Classifier):
 
     def classify_timed(self, image_bgr) -> tuple[HumanGraspEstimate, Timings]:
         """`classify` plus the time spent per stage."""
+        # The pipeline (OpenCV, the view database and its renderer's modules) is imported
+        # at the first classification: every command loads this plugin, few classify.
+        from graspframe_hog_knn.features import hog_descriptor
+        from graspframe_hog_knn.segmentation import segment_hand
+
         image = check_image(image_bgr)
         t0 = time.perf_counter()
         crop = segment_hand(image)
@@ -135,6 +141,9 @@ class HogKnnClassifier(Classifier):
         return estimate, Timings(t1 - t0, t2 - t1b, t3 - t2)
 
     def _estimate(self, db, distances, ids, crop, shape) -> HumanGraspEstimate:
+        from graspframe_hog_knn.rotations import average_rotations
+        from graspframe_hog_knn.views import GRASPS
+
         valid = ids >= 0
         distances, ids = distances[valid], ids[valid]
         labels = db.labels[ids]

@@ -3,13 +3,14 @@ viewer, for `graspframe review`."""
 
 from __future__ import annotations
 
-import logging
+from typing import TYPE_CHECKING
 
 from graspframe.plugins import hookimpl
-from graspframe_rerun.recording import RunRecording
 from graspframe_rerun.viewer import RerunViewer
 
-log = logging.getLogger(__name__)
+if TYPE_CHECKING:
+    from graspframe_rerun.recording import RunRecording
+
 _recordings: dict[str, RunRecording] = {}
 
 
@@ -21,6 +22,9 @@ def graspframe_register_viewers(register):
 @hookimpl
 def graspframe_run_started(run):
     if run.params.get("record", False):
+        # rerun (0.4 s to import) loads with the first run that is recorded.
+        from graspframe_rerun.recording import RunRecording
+
         _recordings[run.run_id] = RunRecording(run)
 
 

@@ -48,13 +48,12 @@ from graspframe.pictures.style import tinted
 from graspframe.robot_model import CollisionModel
 from graspframe.shapes import object_collision_meshes, object_mesh, textured_object_mesh
 from graspframe.transforms import quat_xyzw_from_R
+from graspframe_rerun import RECORDING_FILE
 from graspframe_rerun.cycles import MotionCycles, RobotPoser
 
 COLLISION_OVERLAY_ALPHA = 70  # [0, 255] collision shapes over a link's visual meshes
 HUMAN_VF_OFFSET = np.array([0.0, 0.25, 0.0])  # [m] human virtual fingers beside the robot's
 FORCE_ARROW_SCALE = 0.005  # [m/N]
-RECORDING_SUFFIX = ".rrd"
-RECORDING_FILE = f"recording{RECORDING_SUFFIX}"  # in the run folder
 
 
 def _mesh_archetype(mesh, colour, vertex_colours=None) -> rr.Mesh3D:

@@ -1,7 +1,7 @@
 """Registers the SAPIEN backend."""
 
 from graspframe.plugins import hookimpl
-from graspframe_sapien.world import SapienBackend
+from graspframe_sapien.backend import SapienBackend
 
 
 @hookimpl

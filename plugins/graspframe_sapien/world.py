@@ -1,10 +1,11 @@
-"""The SAPIEN backend: a physics-only world with a table, the object and the robot."""
+"""The SAPIEN backend's world: physics only, with a table, the object and the robot
+(the registered class, `SapienBackend`, is in backend.py)."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from graspframe.hal.drivers import Backend, World, WorldConfig
+from graspframe.hal.drivers import World, WorldConfig
 from graspframe.transforms import as_pose
 from graspframe_sapien.articulation import (
     configure_drives,
@@ -12,6 +13,9 @@ from graspframe_sapien.articulation import (
     load_articulation,
     set_qpos_by_name,
 )
+
+# Also importable from here, where plugin test suites written for earlier versions find it.
+from graspframe_sapien.backend import SapienBackend as SapienBackend
 from graspframe_sapien.drivers import SapienArmDriver, SapienHandDriver, SapienObjectProbe
 from graspframe_sapien.poses import to_pose
 from graspframe_sapien.scene_objects import build_object, build_table
@@ -94,11 +98,3 @@ class SapienWorld(World):
             self._scene.step()
             self.hand.after_step()
             self._steps += 1
-
-
-class SapienBackend(Backend):
-    name = "sapien"
-    summary = "SAPIEN 3 physics (PhysX on the CPU, no renderer)"
-
-    def create_world(self, config: WorldConfig) -> SapienWorld:
-        return SapienWorld(config)

@@ -1,0 +1,44 @@
+"""`graspframe check-hand NAME|SPEC`: the hand and the backend looked up, then the checks
+of graspframe/checks.py run on them and their report printed."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from graspframe import registry as registry_module
+from graspframe.defaults import DEFAULT_BACKEND
+from graspframe.registry import Registry
+
+
+def check_hand_command(
+    name: str,
+    registry: Registry | None = None,
+    hold: bool = True,
+    backend: str = DEFAULT_BACKEND,
+    pictures: Path | None = None,
+) -> int:
+    """Check the hand `name` (registered, or a spec file); print the result; 0 if it
+    passed, else 1.
+
+    registry: where to look the hand up (default: every installed plugin). An unknown
+    name raises the registry's UnknownNameError, which lists the known hands.
+    hold: also check that the hand alone holds its design objects, in `backend`.
+    pictures: folder for the pictures of the hold trials (default runs/check-hand/NAME).
+    """
+    registry = registry or registry_module.default_registry()
+    hand = registry.get_hand(name)
+    physics = registry.get_backend(backend)() if hold else None
+    # The checks (contracts, kinematics, pictures) are imported once the names are known:
+    # a mistyped name is answered at once.
+    from graspframe.checks import check_hand_report
+
+    def progress(message: str) -> None:
+        typer.echo(f"· {message}", err=True)
+
+    folder = pictures or Path("runs") / "check-hand" / hand.name
+    passed, lines = check_hand_report(hand, physics, folder, progress)
+    for line in lines:
+        typer.echo(line)
+    return 0 if passed else 1
