@@ -92,13 +92,13 @@ def test_an_interrupted_run_stops_and_says_so(tmp_path, signum, ignore_sigint):
     time.sleep(1.0)  # into the run's stages
     code, stderr, alive = _interrupt(process, signum)
 
-    assert code == EXIT_INTERRUPTED
-    assert stderr.strip().splitlines()[-1] == "interrupted"
+    assert code == EXIT_INTERRUPTED, stderr
+    assert stderr.strip().splitlines()[-1] == "interrupted", stderr
     assert "Traceback" not in stderr
     assert not alive
     run_dir = _running_run(out)
     result = json.loads((run_dir / "result.json").read_text())
-    assert result["status"] == "interrupted"
+    assert result["status"] == "interrupted", (result["status"], result.get("error"), stderr)
     assert signal.Signals(signum).name in result["error"]
     # The recording so far is closed, readable, and ends with how the run ended.
     chunks = list(RrdReader(run_dir / "recording.rrd").stream())
@@ -109,7 +109,7 @@ def test_an_interrupted_run_stops_and_says_so(tmp_path, signum, ignore_sigint):
         for row in chunk.to_record_batch().column("TextLog:text").to_pylist()
         for text in row
     ]
-    assert log[-1].startswith("run interrupted")
+    assert log[-1].startswith("run interrupted"), log[-3:]
 
 
 def test_an_interrupted_sweep_stops_its_workers_and_resumes(tmp_path):
