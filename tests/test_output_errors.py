@@ -57,6 +57,25 @@ def test_an_out_folder_under_a_file_is_one_line(tmp_path: Path, capsys):
     assert a_file.read_text() == "not a folder"
 
 
+@pytest.mark.parametrize(
+    ("command", "what"),
+    [
+        (["evaluate", "--hands", "barrett", "--grasps", "pinch", "--directions", "0"], "output"),
+        (["check-hand", "barrett", "--no-hold"], "pictures"),
+    ],
+)
+def test_other_commands_say_so_of_their_folders_too(command, what, tmp_path: Path, capsys):
+    a_file = tmp_path / "notes.txt"
+    a_file.write_text("not a folder")
+    option = "--out" if command[0] == "evaluate" else "--pictures"
+    assert main([*command, option, str(a_file / "here")]) == 1
+    err = capsys.readouterr().err  # evaluate's progress bar comes first
+    assert err.strip().splitlines()[-1] == (
+        f"error: cannot create {what} folder {a_file}/here: Not a directory"
+    )
+    assert "Traceback" not in err and err.count("error") == 1
+
+
 def test_no_space_for_the_first_result_json(tmp_path: Path, capsys, monkeypatch):
     _no_space_from_call(monkeypatch, 1)
     assert main([*RUN, "--no-record", "--out", str(tmp_path / "runs")]) == 1
