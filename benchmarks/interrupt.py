@@ -37,7 +37,7 @@ def _commands(folder: Path) -> dict[str, tuple[list[str], Callable[[int], bool]]
     return {
         "run": (
             ["run", "--hand", "barrett", "--grasp", "pinch", "--out", str(runs)],
-            lambda pid: any(runs.glob("*/recording.rrd")),
+            lambda pid: any(runs.glob("*/result.json")),
         ),
         "evaluate": (
             [

@@ -28,6 +28,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from graspframe.files import make_folder
 from graspframe.grasps import HUMAN_HAND
 from graspframe.hal.descriptions import HandDescription, HandPreshape, JointSpec
 from graspframe.hal.drivers import Backend
@@ -134,7 +135,7 @@ def _draw_closing(folder: Path, hand: HandDescription, preshape: HandPreshape) -
         make_T(R_object_palm, -R_object_palm @ np.asarray(preshape.grasp_center_palm))
     )
     closed = closing_configurations(hand, preshape, obj, T_palm_object)[-1]
-    folder.mkdir(parents=True, exist_ok=True)
+    make_folder(folder, "pictures folder")
     caption = (
         f"{hand.name} {preshape.name}: closed around its design object without physics "
         "(each finger stops where it first touches it)"
@@ -188,7 +189,7 @@ def _draw_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> Path:
     title = (
         f"{hand.name} alone, {trial.preshape} ({trial.grasp.value}) on its design object; {verdict}"
     )
-    folder.mkdir(parents=True, exist_ok=True)
+    make_folder(folder, "pictures folder")
     return draw_snapshots(
         folder / f"{trial.preshape}_{trial.grasp.value}.png", scene, frames, title
     )

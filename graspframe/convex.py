@@ -30,18 +30,15 @@ pieces, moving them by at most 1.9 mm; the SAPIEN backend refuses more than 2.5 
 the simulator, the collision checker and the pictures see the same pieces.
 
 The cache: `<GRASPFRAME_CACHE_DIR or ~/.cache/graspframe>/decompositions/<key>/`, the key
-the SHA-256 of the decomposed file's bytes and every parameter above. An entry holds one
-OBJ file per piece (`piece_000.obj`, ...; loaders such as a URDF read files) and, written
-last, `manifest.json` (method, file names, the SHA-256 of each file). Every file is
-written atomically (graspframe.files); an entry without a manifest, or whose files do not
-match their recorded hashes, is not trusted and is rebuilt, so a process killed while
-writing never leaves an entry that is later used.
+the SHA-256 of the decomposed file's bytes and every parameter above. An entry
+(graspframe/cache.py) holds one OBJ file per piece (`piece_000-<hash>.obj`, ...; loaders
+such as a URDF read files) and the method; it is checked whenever it is read, and a
+damaged one is rebuilt with a warning naming it.
 """
 
 from __future__ import annotations
 
 import hashlib
-import json
 import logging
 import math
 from collections.abc import Sequence
@@ -52,8 +49,9 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
+from graspframe.cache import ENTRY_FORMAT, CacheEntry, cache_dir, read_entry, write_entry
 from graspframe.errors import DescriptionError
-from graspframe.files import atomic_write, cache_dir, mesh_file
+from graspframe.files import mesh_file
 
 log = logging.getLogger(__name__)
 
@@ -66,7 +64,7 @@ COACD_SEED = 0
 METHOD_HULL = "hull"
 METHOD_GIVEN = "given pieces"
 METHOD_COACD = "coacd"
-MANIFEST = "manifest.json"
+CACHE_KIND = "decompositions"
 # Mesh files read here: an object's (OBJ, STL, GLB, PLY: hal/objects.py) and a robot's
 # collision meshes as vendor URDFs name them (OBJ, STL, COLLADA).
 MESH_SUFFIXES = (".obj", ".stl", ".dae", ".glb", ".gltf", ".ply")
@@ -230,7 +228,7 @@ def _decomposed(mesh: trimesh.Trimesh, path: Path) -> tuple[list[trimesh.Trimesh
 
 
 def _cache_key(source: Path, scale: Sequence[float], given: bool) -> str:
-    digest = hashlib.sha256(f"convex pieces {PROCEDURE_VERSION}".encode())
+    digest = hashlib.sha256(f"convex pieces {PROCEDURE_VERSION} {ENTRY_FORMAT}".encode())
     digest.update(source.read_bytes())
     parameters = (
         [float(s) for s in scale],
@@ -248,50 +246,18 @@ def _cache_key(source: Path, scale: Sequence[float], given: bool) -> str:
 
 def decompositions_dir() -> Path:
     """The cache folder of convex pieces."""
-    return cache_dir("decompositions")
+    return cache_dir(CACHE_KIND)
 
 
-def _sha256(path: Path) -> str:
-    return hashlib.sha256(path.read_bytes()).hexdigest()
-
-
-def _read_entry(folder: Path) -> ConvexPieces | None:
-    """The pieces of a complete, intact cache entry; None otherwise."""
-    try:
-        manifest = json.loads((folder / MANIFEST).read_text())
-        files = tuple(folder / name for name in manifest["files"])
-        if any(_sha256(f) != h for f, h in zip(files, manifest["sha256"], strict=True)):
-            return None
-        pieces = []
-        for f in files:
-            piece = trimesh.load(f, force="mesh", process=False)
-            if not isinstance(piece, trimesh.Trimesh) or len(piece.faces) == 0:
-                return None
-            pieces.append(piece)
-        method = str(manifest["method"])
-    except (OSError, ValueError, KeyError, TypeError):
-        return None
-    return ConvexPieces(tuple(pieces), files, method)
-
-
-def _write_entry(folder: Path, pieces: list[trimesh.Trimesh], method: str) -> ConvexPieces:
-    folder.mkdir(parents=True, exist_ok=True)
-    files = []
-    for index, piece in enumerate(pieces):
-        path = folder / f"piece_{index:03d}.obj"
-        atomic_write(path, trimesh.exchange.obj.export_obj(piece, include_normals=False))
-        files.append(path)
-    manifest = {
-        "method": method,
-        "files": [f.name for f in files],
-        "sha256": [_sha256(f) for f in files],
-    }
-    atomic_write(folder / MANIFEST, json.dumps(manifest, indent=1))  # last: the entry is whole
-    # Read back what the others will read, so every caller sees the same numbers.
-    entry = _read_entry(folder)
-    if entry is None:
-        raise DescriptionError(f"the convex pieces written to {folder} cannot be read back")
-    return entry
+def _pieces_of(entry: CacheEntry) -> ConvexPieces:
+    """The pieces of a whole cache entry (graspframe/cache.py checked its files)."""
+    files = tuple(entry.files.values())
+    pieces = []
+    for path in files:
+        piece = trimesh.load(path, force="mesh", process=False)
+        assert isinstance(piece, trimesh.Trimesh)  # force="mesh" loads one mesh
+        pieces.append(piece)
+    return ConvexPieces(tuple(pieces), files, str(entry.values["method"]))
 
 
 def convex_pieces(
@@ -309,11 +275,18 @@ def convex_pieces(
     source = Path(given_pieces) if given_pieces is not None else Path(mesh_path)
     _scale(scale, source)
     folder = decompositions_dir() / _cache_key(source, scale, given_pieces is not None)
-    cached = _read_entry(folder)
-    if cached is not None:
-        return cached
-    if given_pieces is not None:
-        pieces, method = _given(source, scale), METHOD_GIVEN
-    else:
-        pieces, method = _decomposed(load_mesh(source, scale), source)
-    return _write_entry(folder, pieces, method)
+    entry = read_entry(folder)
+    if entry is None:
+        if given_pieces is not None:
+            pieces, method = _given(source, scale), METHOD_GIVEN
+        else:
+            pieces, method = _decomposed(load_mesh(source, scale), source)
+        files = {
+            f"piece_{index:03d}.obj": trimesh.exchange.obj.export_obj(
+                piece, include_normals=False
+            ).encode()
+            for index, piece in enumerate(pieces)
+        }
+        # Every caller reads the pieces back from the files, so all see the same numbers.
+        entry = write_entry(folder, {"method": method}, files)
+    return _pieces_of(entry)

@@ -39,6 +39,11 @@ class InputError(GraspframeError):
     """User input (a file, an option value) that cannot be used."""
 
 
+class OutputError(GraspframeError):
+    """A file or folder graspframe writes cannot be written (no space left, no permission,
+    a file where a folder is needed); the message names the path and the cause."""
+
+
 class MotionError(GraspframeError):
     """The arm cannot do what was asked: a pose out of reach, a line it cannot follow."""
 

@@ -27,7 +27,7 @@ from typing import Any
 
 import pluggy
 
-from graspframe.errors import PluginError, UnknownNameError
+from graspframe.errors import OutputError, PluginError, UnknownNameError
 from graspframe.events import RunEvent, RunInfo
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.classifier import Classifier
@@ -339,15 +339,22 @@ class Registry:
 
     def _notify(self, hook: str, **kwargs: Any) -> list[Any]:
         """Call each implementation on its own (a failing observer is logged and the
-        others still run); what they returned."""
+        others still run); what they returned. An observer that cannot write its files
+        (OutputError) fails the run: the first such error is raised once every observer
+        has been called."""
         returned = []
+        output_errors: list[OutputError] = []
         for impl in getattr(self._pm.hook, hook).get_hookimpls():
             try:
                 returned.append(_call(impl, **kwargs))
+            except OutputError as exc:
+                output_errors.append(exc)
             except Exception:
                 if self.strict:
                     raise
                 log.exception("observer %r failed in %s", impl.plugin_name, hook)
+        if output_errors:
+            raise output_errors[0]
         return returned
 
 

@@ -13,7 +13,8 @@ from typing import Any
 import numpy as np
 
 from graspframe.contacts import Contact
-from graspframe.files import atomic_write
+from graspframe.errors import InputError, OutputError
+from graspframe.files import atomic_write, os_reason
 from graspframe.urdf_model import UrdfModel
 
 VERSIONED_PACKAGES = ("graspframe", "sapien", "pin", "placo", "ruckig", "rerun-sdk", "numpy")
@@ -53,7 +54,8 @@ def versions() -> dict[str, str]:
 
 
 def new_run_dir(out_root: Path | str, label: str) -> Path:
-    """A fresh runs/<UTC timestamp>-<label>/ folder (suffixed if it exists)."""
+    """A fresh runs/<UTC timestamp>-<label>/ folder (suffixed if it exists); an OutputError
+    naming it and the cause when it cannot be created."""
     stamp = datetime.now(UTC).strftime("%Y%m%dT%H%M%S")
     base = Path(out_root) / f"{stamp}-{label}"
     path, n = base, 1
@@ -64,12 +66,12 @@ def new_run_dir(out_root: Path | str, label: str) -> Path:
         except FileExistsError:
             n += 1
             path = base.with_name(f"{base.name}-{n}")
+        except OSError as error:
+            raise OutputError(f"cannot create run folder {path}: {os_reason(error)}") from error
 
 
 def read_json_file(path: Path | str, what: str) -> Any:
     """A JSON input file; an InputError naming `what` if it is missing or malformed."""
-    from graspframe.errors import InputError
-
     path = Path(path)
     try:
         return json.loads(path.read_text())
@@ -80,5 +82,6 @@ def read_json_file(path: Path | str, what: str) -> Any:
 
 
 def write_json(path: Path, data: dict) -> None:
-    """Write `data` as JSON atomically: a reader never sees half a file."""
+    """Write `data` as JSON atomically: a reader never sees half a file, and a failed
+    write (OutputError: the path and the cause) leaves the file as it was."""
     atomic_write(path, json.dumps(jsonable(data), indent=2))

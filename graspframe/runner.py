@@ -8,7 +8,6 @@ grasp straight ahead would point the flange along the forearm, a wrist singulari
 from __future__ import annotations
 
 import logging
-import shutil
 import time
 import traceback
 from collections.abc import Callable
@@ -25,7 +24,7 @@ from graspframe.defaults import (
     SCENE_OBJECT_XY,
     TABLE_HEIGHT,
 )
-from graspframe.errors import GraspframeError
+from graspframe.errors import GraspframeError, OutputError
 from graspframe.events import (
     CLASSIFY_DONE,
     CLASSIFY_IMAGES,
@@ -37,6 +36,7 @@ from graspframe.events import (
     RunEvent,
     RunInfo,
 )
+from graspframe.files import atomic_write
 from graspframe.grasps import PALM, HumanGrasp
 from graspframe.hal.drivers import World, WorldConfig
 from graspframe.motion.arm_motion import ArmMotion
@@ -107,8 +107,10 @@ def run_grasp(
     inputs: `resolve(request, registry)` when the caller has checked the request already
     (the command line does, before it imports this module); else resolved here.
     A failure after the run folder exists is recorded (status "failed", the error; an
-    interruption: status "interrupted") and re-raised; the result file is written in
-    every case.
+    interruption by Ctrl-C or SIGTERM: status "interrupted") and re-raised; so is an
+    observer that cannot write its files (OutputError). result.json is written first
+    with status "running" and rewritten atomically at the end, so it claims success only
+    when the whole run, its files included, succeeded.
     """
     registry = registry or default_registry()
     progress = progress or (lambda message: None)
@@ -122,33 +124,48 @@ def run_grasp(
     recorder = _Recorder(registry, run)
     result = RunResult(run.run_id, request, versions(), Path(run_dir) / "result.json")
     write_json(result.result_path, result.to_json())
-    registry.notify_run_started(run)
     stages = _Stages()
     started = time.perf_counter()
-    status, error, trace = "running", None, None
+    failure: BaseException | None = None
     try:
+        registry.notify_run_started(run)
         _run_stages(request, inputs, registry, recorder, stages, progress)
-        status = "ok"
-    except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM (the CLI names which)
-        status, error = "interrupted", f"interrupted ({exc or 'SIGINT'})"
-        raise
-    except BaseException as exc:
-        status, error, trace = "failed", f"{type(exc).__name__}: {exc}", traceback.format_exc()
-        raise
-    finally:
-        result = replace(
-            result,
-            status=status,
-            error=error,
-            traceback=trace,
-            wall_time=time.perf_counter() - started,
-            events=tuple(recorder.events),
-            **asdict_shallow(stages),
-        )
+    except BaseException as exc:  # recorded, then re-raised below
+        failure = exc
+    result = replace(
+        result,
+        wall_time=time.perf_counter() - started,
+        events=tuple(recorder.events),
+        **asdict_shallow(stages),
+    )
+    result = _ended(result, failure)
+    try:
         # Observers say what they wrote (the recorder: where its recording is).
         result = replace(result, artifacts=registry.notify_run_finished(run, result))
+    except OutputError as exc:  # an observer's file is missing: the run failed
+        failure = failure or exc
+        result = _ended(result, failure)
+    try:
         write_json(result.result_path, result.to_json())
+    except OutputError:
+        if failure is None:
+            raise
+        # The run's own failure is the news; result.json still says "running".
+    if failure is not None:
+        raise failure
     return result
+
+
+def _ended(result: RunResult, failure: BaseException | None) -> RunResult:
+    """`result` with the status, error and traceback of a run that ended with `failure`
+    (None: it succeeded)."""
+    if failure is None:
+        return replace(result, status="ok", error=None, traceback=None)
+    if isinstance(failure, KeyboardInterrupt):  # Ctrl-C or SIGTERM (the CLI names which)
+        return replace(result, status="interrupted", error=f"interrupted ({failure or 'SIGINT'})")
+    error = f"{type(failure).__name__}: {failure}"
+    trace = "".join(traceback.format_exception(failure))
+    return replace(result, status="failed", error=error, traceback=trace)
 
 
 def asdict_shallow(stages: _Stages) -> dict:
@@ -268,8 +285,7 @@ def _run_stages(
     if reference.picture is not None:
         # The human grasp's picture beside the robot's snapshots.png.
         picture = Path(recorder.run.out_dir) / "human_reference.png"
-        shutil.copyfile(reference.picture, picture)
-        stages.human_reference_picture = picture
+        stages.human_reference_picture = atomic_write(picture, reference.picture.read_bytes())
     recorder.emit(
         SCORE_DONE,
         score=stages.score.to_json(),

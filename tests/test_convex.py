@@ -3,7 +3,7 @@ the cache and its recovery from a damaged entry, bad input."""
 
 from __future__ import annotations
 
-import json
+import logging
 import time
 from pathlib import Path
 
@@ -12,8 +12,8 @@ import pytest
 import trimesh
 
 from graspframe import convex
+from graspframe.cache import ENTRY_FILE, read_entry
 from graspframe.convex import (
-    MANIFEST,
     MAX_PIECE_VERTICES,
     METHOD_COACD,
     METHOD_GIVEN,
@@ -62,7 +62,8 @@ def test_a_convex_mesh_is_its_hull_with_at_most_the_vertex_limit(tmp_path):
     # points on a sphere holds about 92 %).
     assert _outside(piece.vertices, sphere) < 1e-7
     assert 0.88 < piece.volume / sphere.volume <= 1.0
-    assert [p.name for p in result.files] == ["piece_000.obj"]
+    (piece_file,) = result.files
+    assert piece_file.name.startswith("piece_000-") and piece_file.suffix == ".obj"
 
 
 def test_a_box_is_kept_exactly(tmp_path):
@@ -121,21 +122,31 @@ def test_a_non_convex_mesh_is_decomposed_with_coacd_and_cached(tmp_path, cache):
     assert all(f.parent == _entry(cache) for f in again.files)
 
 
-@pytest.mark.parametrize("damage", ["no manifest", "a piece file changed", "a piece missing"])
-def test_a_damaged_cache_entry_is_rebuilt(tmp_path, cache, damage):
+@pytest.mark.parametrize(
+    "damage", ["entry.json missing", "entry.json cut short", "a piece changed", "a piece missing"]
+)
+def test_a_damaged_cache_entry_is_rebuilt_with_a_warning(tmp_path, cache, damage, caplog):
     box = _write(trimesh.creation.box(extents=(0.03, 0.03, 0.03)), tmp_path / "box.stl")
     original = convex_pieces(box)
     entry = _entry(cache)
-    if damage == "no manifest":  # a process killed before it wrote the manifest
-        (entry / MANIFEST).unlink()
-    elif damage == "a piece file changed":
-        (entry / "piece_000.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n")
+    (piece_file,) = original.files
+    if damage == "entry.json missing":
+        (entry / ENTRY_FILE).unlink()
+    elif damage == "entry.json cut short":  # as a full disk leaves it
+        text = (entry / ENTRY_FILE).read_bytes()
+        (entry / ENTRY_FILE).write_bytes(text[: len(text) // 2])
+    elif damage == "a piece changed":
+        piece_file.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n")
     else:
-        (entry / "piece_000.obj").unlink()
-    rebuilt = convex_pieces(box)
+        piece_file.unlink()
+    with caplog.at_level(logging.WARNING, logger="graspframe.cache"):
+        rebuilt = convex_pieces(box)
+    (warning,) = caplog.messages
+    assert warning.startswith(f"cache entry {entry} is damaged (") and "rebuilding it" in warning
+    assert rebuilt.files == original.files and rebuilt.method == original.method
     np.testing.assert_array_equal(rebuilt.pieces[0].vertices, original.pieces[0].vertices)
-    manifest = json.loads((entry / MANIFEST).read_text())
-    assert manifest["files"] == ["piece_000.obj"] and manifest["method"] == METHOD_HULL
+    caplog.clear()
+    assert read_entry(entry) is not None and not caplog.messages  # whole again
 
 
 def test_a_different_file_or_scale_is_a_different_entry(tmp_path, cache):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import logging
 from types import SimpleNamespace
 
 import numpy as np
@@ -105,27 +106,63 @@ def test_every_grasp_has_a_taxonomy_expectation():
         assert expectation.text
 
 
-def test_the_held_verdict_is_cached_with_the_contacts(tmp_path, monkeypatch):
-    monkeypatch.setenv("GRASPFRAME_CACHE_DIR", str(tmp_path))
-    calls = []
-    verdict = HeldVerdict(after_lift=True, under_disturbance=False, failure="slipped when pushed")
+def _fake_simulation(monkeypatch, calls: list, verdict: HeldVerdict) -> None:
+    """simulate_human_grasp replaced by one contact, `verdict` and a small picture."""
 
     def fake_simulation(grasp, obj, human, backend, held=None, picture=None):
         calls.append(grasp)
         c = Contact(
             "hh_thumb_distal", "thumb", np.zeros(3), np.array([1.0, 0, 0]), np.zeros(3), "object"
         )
-        return HumanReference(grasp, obj.name, (c,), "simulated", verdict)
+        if picture is not None:
+            picture.write_bytes(b"\x89PNG picture of " + grasp.value.encode())
+        return HumanReference(grasp, obj.name, (c,), "simulated", verdict, picture)
 
     monkeypatch.setattr(human_reference, "simulate_human_grasp", fake_simulation)
+
+
+def test_the_held_verdict_is_cached_with_the_contacts(tmp_path, monkeypatch):
+    monkeypatch.setenv("GRASPFRAME_CACHE_DIR", str(tmp_path))
+    calls: list = []
+    verdict = HeldVerdict(after_lift=True, under_disturbance=False, failure="slipped when pushed")
+    _fake_simulation(monkeypatch, calls, verdict)
     obj = REGISTRY.default_object_for(G.PINCH)
     first = human_reference.human_reference(G.PINCH, obj, HUMAN, SapienBackend)
     second = human_reference.human_reference(G.PINCH, obj, HUMAN, SapienBackend)
     assert calls == [G.PINCH]  # the second came from the cache
     assert second.source == "cache" and first.source == "simulated"
     assert second.held == verdict
-    cached = next((tmp_path / "human_references").glob("*.json"))
-    assert json.loads(cached.read_text())["held_test"]["failure"] == "slipped when pushed"
+    assert second.picture == first.picture and second.picture.read_bytes().startswith(b"\x89PNG")
+    (entry,) = (tmp_path / "human_references").glob("*/entry.json")
+    assert json.loads(entry.read_text())["values"]["held_test"]["failure"] == "slipped when pushed"
+
+
+@pytest.mark.parametrize("damage", ["entry.json cut short", "picture garbage", "picture missing"])
+def test_a_damaged_cached_reference_is_simulated_again(tmp_path, monkeypatch, caplog, damage):
+    monkeypatch.setenv("GRASPFRAME_CACHE_DIR", str(tmp_path))
+    calls: list = []
+    _fake_simulation(monkeypatch, calls, HeldVerdict(True, True, None))
+    obj = REGISTRY.default_object_for(G.PINCH)
+    clean = human_reference.human_reference(G.PINCH, obj, HUMAN, SapienBackend)
+    (entry,) = (tmp_path / "human_references").iterdir()
+    if damage == "entry.json cut short":  # as a process killed while writing leaves it
+        text = (entry / "entry.json").read_bytes()
+        (entry / "entry.json").write_bytes(text[: len(text) // 2])
+    elif damage == "picture garbage":
+        clean.picture.write_bytes(b"\0" * 100)
+    else:
+        clean.picture.unlink()
+    with caplog.at_level(logging.WARNING, logger="graspframe.cache"):
+        rebuilt = human_reference.human_reference(G.PINCH, obj, HUMAN, SapienBackend)
+    (warning,) = caplog.messages
+    assert warning.startswith(f"cache entry {entry} is damaged (")
+    assert warning.endswith("); rebuilding it")
+    assert calls == [G.PINCH, G.PINCH]  # simulated again
+    assert [c.to_dict() for c in rebuilt.contacts] == [c.to_dict() for c in clean.contacts]
+    assert rebuilt.held == clean.held
+    assert rebuilt.picture == clean.picture and rebuilt.picture.read_bytes().startswith(b"\x89PNG")
+    again = human_reference.human_reference(G.PINCH, obj, HUMAN, SapienBackend)
+    assert again.source == "cache" and len(calls) == 2
 
 
 def test_a_run_says_when_its_human_reference_does_not_hold(tmp_path, monkeypatch, capsys):

@@ -71,11 +71,8 @@ def _interrupt(process: subprocess.Popen, signum: int) -> tuple[int, str, list[i
 
 
 def _running_run(out: Path) -> Path | None:
-    """The run folder once its result.json says it is running and it records."""
-    for result_path in out.glob("*/result.json"):
-        if (result_path.parent / "recording.rrd").exists():
-            return result_path.parent
-    return None
+    """The run folder once its result.json (written first, "running") is there."""
+    return next((path.parent for path in out.glob("*/result.json")), None)
 
 
 @pytest.mark.parametrize(
@@ -89,7 +86,7 @@ def test_an_interrupted_run_stops_and_says_so(tmp_path, signum, ignore_sigint):
         ["run", "--hand", "barrett", "--grasp", "pinch", "--out", str(out)], ignore_sigint
     )
     _wait_for(lambda: _running_run(out) is not None, process)
-    time.sleep(1.0)  # into the run's stages
+    time.sleep(2.0)  # into the run's stages
     code, stderr, alive = _interrupt(process, signum)
 
     assert code == EXIT_INTERRUPTED, stderr
@@ -100,7 +97,7 @@ def test_an_interrupted_run_stops_and_says_so(tmp_path, signum, ignore_sigint):
     result = json.loads((run_dir / "result.json").read_text())
     assert result["status"] == "interrupted", (result["status"], result.get("error"), stderr)
     assert signal.Signals(signum).name in result["error"]
-    # The recording so far is closed, readable, and ends with how the run ended.
+    # The recording so far is written, readable, and ends with how the run ended.
     chunks = list(RrdReader(run_dir / "recording.rrd").stream())
     log = [
         text

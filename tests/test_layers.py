@@ -20,7 +20,7 @@ ARCHITECTURE = Path(__file__).parents[1] / "docs" / "architecture.md"
 # graspframe on each.
 FLOORS = {
     "basic types": (
-        "__init__", "errors", "transforms", "grasps", "contacts", "files", "defaults",
+        "__init__", "errors", "transforms", "grasps", "contacts", "files", "cache", "defaults",
     ),
     "files": (
         "urdf_elements", "urdf_model", "convex", "mesh_geometry", "results", "scene", "demo",

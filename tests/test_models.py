@@ -1,7 +1,8 @@
-"""Every registered hand and arm model, in Pinocchio and in SAPIEN, alone and mounted.
+"""Every built-in hand and arm model, in Pinocchio and in SAPIEN, alone and mounted.
 
 Parametrised over the registry, so a new built-in model is covered without editing
-this file.
+this file. The models of a third-party plugin installed beside graspframe are its own
+to test (the contract tests, `graspframe check-hand`), not this suite's.
 """
 
 from __future__ import annotations
@@ -26,8 +27,9 @@ from graspframe.robot_model import (
 from graspframe.transforms import R_from_rpy, make_T
 
 REGISTRY = default_registry()
-HANDS = REGISTRY.names("hand")
-ARMS = REGISTRY.names("arm")
+BUILT_IN_PACKAGE = "graspframe"
+HANDS = [entry.name for entry in REGISTRY.entries("hand") if entry.package == BUILT_IN_PACKAGE]
+ARMS = [entry.name for entry in REGISTRY.entries("arm") if entry.package == BUILT_IN_PACKAGE]
 PRESHAPES = [(h, p) for h in HANDS for p in REGISTRY.get_hand(h).preshapes]
 DESCRIPTIONS = [("hand", h) for h in HANDS] + [("arm", a) for a in ARMS]
 

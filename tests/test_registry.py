@@ -7,7 +7,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from graspframe.errors import PluginError, UnknownNameError
+from graspframe.errors import OutputError, PluginError, UnknownNameError
 from graspframe.events import RunEvent, RunInfo
 from graspframe.hal import Backend, Classifier
 from graspframe.plugins import hookimpl
@@ -162,6 +162,31 @@ def test_observers_all_run_when_one_fails(caplog):
         registry.notify_run_event(run, RunEvent("execute.contact", 0.1))
     assert seen == ["execute.contact"]
     assert "observer bug" in caplog.text
+
+
+def test_an_observer_that_cannot_write_its_file_fails_the_run_after_the_others_ran(caplog):
+    seen = []
+
+    @hookimpl
+    def graspframe_run_finished(run, result):
+        raise OutputError(f"cannot write {run.out_dir}/recording.rrd: No space left on device")
+
+    class Good:
+        @hookimpl
+        def graspframe_run_finished(self, run, result):
+            seen.append(run.run_id)
+            return {"summary": f"{run.out_dir}/summary.txt"}
+
+    registry = Registry(strict=False)
+    registry.add_plugin(
+        "full_disk", SimpleNamespace(graspframe_run_finished=graspframe_run_finished)
+    )
+    registry.add_plugin("good_observer", Good())
+    run = RunInfo("r1", "/tmp/r1")
+    with pytest.raises(OutputError, match=r"recording\.rrd: No space left on device"):
+        registry.notify_run_finished(run, result=None)
+    assert seen == ["r1"]
+    assert not caplog.text  # no traceback logged: the error is the run's own
 
 
 def test_disabled_plugins_are_not_loaded(monkeypatch):

@@ -14,6 +14,7 @@ import trimesh
 from graspframe_sapien.articulation import active_joints, create_scene, load_articulation
 from scipy.spatial import ConvexHull
 
+from graspframe.cache import ENTRY_FILE
 from graspframe.convex import MAX_PIECE_VERTICES, convex_pieces
 from graspframe.errors import DescriptionError
 from graspframe.mounting import mount
@@ -230,7 +231,6 @@ def test_convex_pieces_are_cached_and_a_damaged_entry_is_rebuilt(tmp_path, monke
     first = convex_pieces(mesh)
     assert len(first.pieces) == 1 and len(first.pieces[0].vertices) <= MAX_PIECE_VERTICES
     assert convex_pieces(mesh).files == first.files  # the same entry, read back
-    manifest = first.files[0].parent / "manifest.json"
-    manifest.write_text("{ cut short")
+    (first.files[0].parent / ENTRY_FILE).write_text("{ cut short")
     again = convex_pieces(mesh)
     assert again.files == first.files and len(again.pieces[0].vertices) <= MAX_PIECE_VERTICES

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from graspframe.defaults import DEFAULT_ARM, MOUNT_ARM, MOUNTS
-from graspframe.errors import InputError
+from graspframe.errors import InputError, OutputError
 from graspframe.experiments.trials import (
     CONDITION_A,
     TRIAL_TIME_LIMIT,
@@ -29,6 +29,7 @@ from graspframe.experiments.trials import (
     run_trial_isolated,
 )
 from graspframe.experiments.workers import run_in_workers
+from graspframe.files import make_folder, os_reason
 
 EXECUTORS = ("local", "dask")
 TRIALS_FILE = "trials.jsonl"
@@ -186,10 +187,13 @@ def load_finished(path: Path) -> dict[str, dict]:
 def _append(path: Path, row: dict) -> None:
     # A kill can leave a last line without its newline: start on a fresh line then.
     cut_short = path.is_file() and path.stat().st_size > 0 and not _ends_with_newline(path)
-    with path.open("a") as stream:
-        stream.write(("\n" if cut_short else "") + json.dumps(row) + "\n")
-        stream.flush()
-        os.fsync(stream.fileno())
+    try:
+        with path.open("a") as stream:
+            stream.write(("\n" if cut_short else "") + json.dumps(row) + "\n")
+            stream.flush()
+            os.fsync(stream.fileno())
+    except OSError as error:
+        raise OutputError(f"cannot write {path}: {os_reason(error)}") from error
 
 
 def _ends_with_newline(path: Path) -> bool:
@@ -249,7 +253,7 @@ def run_sweep(
 
     on_trial(row, done, total) is called after each finished trial (progress)."""
     out_dir = Path(config.out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    make_folder(out_dir, "output folder")
     trials_path = out_dir / TRIALS_FILE
     specs = plan_trials(config)
     finished = load_finished(trials_path)

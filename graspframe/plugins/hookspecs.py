@@ -71,4 +71,6 @@ def graspframe_run_event(run: RunInfo, event: RunEvent) -> None:
 def graspframe_run_finished(run: RunInfo, result: Any) -> dict[str, str] | None:
     """`run` ended; `result` is its `graspframe.run_result.RunResult` (status "ok" or
     "failed"). Return the files this observer wrote for the run, by name (e.g.
-    {"recording": path}); result.json lists them."""
+    {"recording": path}); result.json lists them. A file that cannot be written: raise
+    an OutputError naming it and the cause (graspframe.files.atomic_write does), which
+    fails the run."""

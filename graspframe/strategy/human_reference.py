@@ -6,7 +6,9 @@ approaches that pose along the palm normal and closes towards its closed posture
 fingers stop on the object. Its contacts at the hold are the reference. The grasp then
 goes through the robots' held test (held_test.py): a reference that does not hold says
 so (`HumanReference.held`), and the run reports it. Results are cached per (grasp,
-object, model) in the cache folder. Measured human contacts can replace them: a JSON file
+object, model, backend, held test) in the cache folder (graspframe/cache.py: checked when
+read, rebuilt when damaged), the contacts, the verdict and the picture of the grasp in one
+entry. Measured human contacts can replace them: a JSON file
 in the format below (docs/method.md shows an example); they are taken as given (no held
 test).
 
@@ -28,15 +30,16 @@ from __future__ import annotations
 
 import hashlib
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
+from graspframe.cache import ENTRY_FORMAT, CacheEntry, cache_dir, read_entry, write_entry
 from graspframe.contacts import OBJECT, Contact
 from graspframe.errors import InputError
-from graspframe.files import cache_dir
+from graspframe.files import temporary_path
 from graspframe.floating_base import mount_floating
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.descriptions import HandDescription, HandPreshape
@@ -44,7 +47,7 @@ from graspframe.hal.drivers import Backend, World, WorldConfig
 from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
-from graspframe.results import read_json_file, write_json
+from graspframe.results import jsonable, read_json_file
 from graspframe.snapshots import PICTURE_STYLE, Snapshot, draw_snapshots, scene_of_robot
 from graspframe.strategy.execution import ExecutionLog, Grip, execute
 from graspframe.strategy.executor import APPROACH_SPEED  # the robots' non-volar approach
@@ -53,6 +56,8 @@ from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 
 FORMAT = "graspframe.human_contacts/1"
+CACHE_KIND = "human_references"
+PICTURE = "picture.png"  # the picture of the simulated grasp, in its cache entry
 # Part of the cache key: bump it when the way references are simulated changes.
 PROCEDURE_VERSION = 4
 SETTLE_TIME = 1.0  # [s] after the slowest joint could have reached its closed target
@@ -103,12 +108,28 @@ def load_reference_file(path: Path | str) -> HumanReference:
 
 
 def _reference_from_json(data: object, path: Path) -> HumanReference:
-    """The reference in `data` (the file format), read from `path` (named in errors)."""
+    """The measured reference in `data` (the file format), read from `path` (named in
+    errors); it must have contacts."""
+    data = _of_the_format(data, path)
+    grasp = HumanGrasp.parse(str(data.get("grasp", "")))
+    contacts = _contacts_from_json(data, path)
+    if not contacts:
+        raise InputError(f"{path}: no contacts")
+    return HumanReference(grasp, str(data.get("object", "")), contacts, str(path))
+
+
+def _of_the_format(data: object, path: Path) -> dict:
+    """`data` when it is a JSON object of the file format with contacts in the object
+    frame; an InputError naming `path` otherwise."""
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise InputError(f'{path}: expected a JSON object with "format": "{FORMAT}"')
     if data.get("frame") != "object":
         raise InputError(f'{path}: "frame" must be "object" (contacts in the object frame)')
-    grasp = HumanGrasp.parse(str(data.get("grasp", "")))
+    return data
+
+
+def _contacts_from_json(data: dict, path: Path) -> tuple[Contact, ...]:
+    """The contacts of `data` (of the file format; none is fine here), read from `path`."""
     contacts = []
     for index, item in enumerate(data.get("contacts") or []):
         try:
@@ -128,24 +149,20 @@ def _reference_from_json(data: object, path: Path) -> HumanReference:
         if abs(np.linalg.norm(n) - 1.0) > 1e-3:
             raise InputError(f"{path}: contact {index}: n must be a unit vector")
         contacts.append(Contact(str(item.get("link", finger)), finger, p, n, f, frame=OBJECT))
-    if not contacts:
-        raise InputError(f"{path}: no contacts")
-    return HumanReference(grasp, str(data.get("object", "")), tuple(contacts), str(path))
+    return tuple(contacts)
 
 
-def _load_cached(path: Path, obj: ObjectDescription) -> HumanReference:
-    """A reference this module wrote to the cache, its held test and picture included."""
-    data = read_json_file(path, "cached human reference")
-    cached = _reference_from_json(data, path)
-    held = HeldVerdict.from_dict(data["held_test"])
-    picture = path.with_suffix(".png")
+def _cached_reference(entry: CacheEntry, obj: ObjectDescription) -> HumanReference:
+    """A reference this module wrote to the cache (graspframe/cache.py checked the entry),
+    its held test and picture included."""
+    values = _of_the_format(entry.values, entry.folder)
     return HumanReference(
-        cached.grasp,
+        HumanGrasp.parse(str(values["grasp"])),
         obj.name,
-        cached.contacts,
+        _contacts_from_json(values, entry.folder),
         "cache",
-        held,
-        picture if picture.is_file() else None,
+        HeldVerdict.from_dict(values["held_test"]),
+        entry.files.get(PICTURE),
     )
 
 
@@ -250,7 +267,7 @@ def _cache_key(
     backend: Backend,
     held: HeldTest,
 ) -> str:
-    digest = hashlib.sha256(f"procedure {PROCEDURE_VERSION}".encode())
+    digest = hashlib.sha256(f"procedure {PROCEDURE_VERSION} {ENTRY_FORMAT}".encode())
     digest.update(f"backend {backend.name}".encode())
     # The cached entry keeps its picture: a new picture style makes a new entry.
     digest.update(f"pictures {PICTURE_STYLE}".encode())
@@ -278,14 +295,19 @@ def human_reference(
 ) -> HumanReference:
     """The simulated human reference with its picture, from the cache when it holds it
     (the cache key names the backend and the held test's criteria; default: the held
-    test's defaults, as a run uses)."""
+    test's defaults, as a run uses). A reference without contacts is cached too: the same
+    inputs give it again."""
     held = held or HeldTest()
-    path = cache_dir("human_references") / f"{_cache_key(grasp, obj, human, backend, held)}.json"
-    if use_cache and path.is_file():
-        return _load_cached(path, obj)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    picture = path.with_suffix(".png")
-    reference = simulate_human_grasp(grasp, obj, human, backend, held, picture=picture)
-    if reference.contacts:
-        write_json(path, reference.to_json())
-    return reference
+    folder = cache_dir(CACHE_KIND) / _cache_key(grasp, obj, human, backend, held)
+    if use_cache:
+        entry = read_entry(folder)
+        if entry is not None:
+            return _cached_reference(entry, obj)
+    drawn = temporary_path(folder.with_suffix(".png"))  # then kept in the entry
+    try:
+        reference = simulate_human_grasp(grasp, obj, human, backend, held, picture=drawn)
+        files = {PICTURE: drawn.read_bytes()} if drawn.is_file() else {}
+    finally:
+        drawn.unlink(missing_ok=True)
+    entry = write_entry(folder, jsonable(reference.to_json()), files)
+    return replace(reference, picture=entry.files.get(PICTURE))

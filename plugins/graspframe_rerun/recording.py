@@ -1,4 +1,9 @@
-"""One run's rerun recording, streamed to a file from the start.
+"""One run's rerun recording, kept in memory during the run and written to the run folder
+at its end, atomically (graspframe.files): a recording file is always whole, and one that
+cannot be written (no space left, ...) is an OutputError naming the file and the cause,
+which fails the run. (rerun's own file sink writes from a thread of its own: a failure
+shows only in rerun's log lines on stderr, a flush may then wait for ever, and half a
+file is left.)
 
 Entity layout (all in the world frame, z up, metres):
     world/table, world/object                the table top and the object (true pose): its
@@ -42,6 +47,7 @@ from graspframe import events
 from graspframe.defaults import TABLE_HALF_SIZE
 from graspframe.errors import GraspframeError
 from graspframe.events import RunInfo
+from graspframe.files import atomic_write
 from graspframe.pictures import style
 from graspframe.pictures.meshes import Surface, robot_meshes, vertex_normals
 from graspframe.pictures.style import tinted
@@ -117,7 +123,7 @@ class RunRecording:
         self._object = run.object
         self.path = Path(run.out_dir) / RECORDING_FILE
         self.stream = rr.RecordingStream("graspframe", recording_id=run.run_id)
-        self.stream.save(str(self.path))
+        self._memory = self.stream.memory_recording()
         self._cycles: MotionCycles | None = None  # from world.built on
         self._sim_time_s = 0.0
         self._handlers = {
@@ -301,11 +307,12 @@ class RunRecording:
 
     def finish(self, status: str, error: str | None = None) -> None:
         """Send the cycles still buffered, log how the run ended (its status and error)
-        and close the file."""
+        and write the recording file (OutputError: the path and the cause)."""
         self._flush_cycles()
         self.text(f"run {status}: {error or ''}")
-        self.stream.flush()
+        recording = self._memory.drain_as_bytes()  # before disconnecting: it ends the data
         self.stream.disconnect()
+        atomic_write(self.path, recording)
 
 
 def _picture_archetype(picture) -> rr.SegmentationImage | rr.Image:
