@@ -191,7 +191,9 @@ def test_a_goal_that_would_put_the_hand_into_the_table_is_raised():
     assert plan.T_world_palm_goal[2, 3] == pytest.approx(plan.min_goal_height)
 
 
-def test_the_chosen_arm_path_is_collision_free_and_refusals_say_why():
+def _barrett_large_diameter_on_kuka():
+    """(the checked plan, the hand, the object) of the Barrett's large diameter grasp of
+    the can on the KUKA arm."""
     hand, arm = REGISTRY.get_hand("barrett"), REGISTRY.get_arm("kuka")
     obj = REGISTRY.get_object("large_cylinder")
     placement = reference_placement(obj, REGISTRY.get_hand("human").preshape_for(G.LARGE_DIAMETER))
@@ -199,6 +201,11 @@ def test_the_chosen_arm_path_is_collision_free_and_refusals_say_why():
     checked = choose_plan(
         G.LARGE_DIAMETER, placement.T_object_palm, T_world_object, hand, arm, obj, 0.0, np.eye(4)
     )
+    return checked, hand, obj
+
+
+def test_the_chosen_arm_path_is_collision_free_and_refusals_say_why():
+    checked, hand, obj = _barrett_large_diameter_on_kuka()
     assert path_problem(checked.plan, checked.robot, checked.T_world_base, hand, obj, 0.0) is None
     for reason in checked.refused:  # each refused variant names the part of the path
         assert any(part in reason for part in ("transfer", "descent", "approach", "unreachable"))
@@ -208,13 +215,7 @@ def test_the_path_check_checks_the_segments_the_executor_drives(monkeypatch):
     """The executor and the path check take their segments from one builder
     (executor.planned_path): an approach changed there, sunk 8 cm into the table, is
     what the check then refuses."""
-    hand, arm = REGISTRY.get_hand("barrett"), REGISTRY.get_arm("kuka")
-    obj = REGISTRY.get_object("large_cylinder")
-    placement = reference_placement(obj, REGISTRY.get_hand("human").preshape_for(G.LARGE_DIAMETER))
-    T_world_object = make_T(p=[*SCENE_OBJECT_XY, obj.half_height])
-    checked = choose_plan(
-        G.LARGE_DIAMETER, placement.T_object_palm, T_world_object, hand, arm, obj, 0.0, np.eye(4)
-    )
+    checked, hand, obj = _barrett_large_diameter_on_kuka()
     args = (checked.plan, checked.robot, checked.T_world_base, hand, obj, 0.0)
     assert path_problem(*args) is None
     built = executor.palm_path
