@@ -443,7 +443,13 @@ def _run_app(argv: list[str] | None) -> int:
 
 
 def _console_script() -> None:
-    sys.exit(main())
+    code = main()
+    # The command has ended and said how; the interpreter's shutdown (about 0.3 s: the
+    # simulator and the plugins released) resets the signal handlers to the defaults,
+    # under which a late Ctrl-C would kill the process and lose this exit code.
+    for number in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(number, signal.SIG_IGN)
+    sys.exit(code)
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ import json
 import signal
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -27,47 +28,60 @@ HANG_GUARD = 120.0  # [s] a command still running this long after the signal has
 START_GUARD = 300.0  # [s] for a command to reach the moment the test interrupts
 
 
-def _start(args: list[str], ignore_sigint: bool = False) -> subprocess.Popen:
-    """The command `graspframe ARGS` in a process of its own; with `ignore_sigint`
-    started as a shell starts a background job, with SIGINT ignored."""
+class _Command:
+    """`graspframe ARGS` in a process of its own, its stderr read line by line as it
+    comes; with `ignore_sigint` started as a shell starts a background job, with SIGINT
+    ignored."""
 
-    def ignore() -> None:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    def __init__(self, args: list[str], ignore_sigint: bool = False) -> None:
+        def ignore() -> None:
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
 
-    return subprocess.Popen(
-        [sys.executable, "-m", "graspframe.cli", *args],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        preexec_fn=ignore if ignore_sigint else None,
-    )
+        self.process = subprocess.Popen(
+            [sys.executable, "-m", "graspframe.cli", *args],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            text=True,
+            preexec_fn=ignore if ignore_sigint else None,
+        )
+        self.stderr_lines: list[str] = []
+        self._reader = threading.Thread(target=self._read_stderr, daemon=True)
+        self._reader.start()
 
+    def _read_stderr(self) -> None:
+        assert self.process.stderr is not None
+        for line in self.process.stderr:
+            self.stderr_lines.append(line)
 
-def _wait_for(condition: Callable[[], bool], process: subprocess.Popen) -> None:
-    started = time.monotonic()
-    while not condition():
-        assert process.poll() is None, f"ended before it was interrupted: {process.stderr}"
-        assert time.monotonic() - started < START_GUARD, "never reached the moment"
-        time.sleep(0.1)
+    @property
+    def stderr(self) -> str:
+        return "".join(self.stderr_lines)
+
+    def wait_for(self, condition: Callable[[], bool]) -> None:
+        started = time.monotonic()
+        while not condition():
+            assert self.process.poll() is None, f"ended before it was interrupted: {self.stderr}"
+            assert time.monotonic() - started < START_GUARD, "never reached the moment"
+            time.sleep(0.1)
+
+    def interrupt(self, signum: int) -> tuple[int, str, list[int]]:
+        """Send `signum`; (exit code, stderr, the children it had that are still alive
+        a few seconds after it ended)."""
+        children = _children(self.process.pid)
+        self.process.send_signal(signum)
+        self.process.wait(timeout=HANG_GUARD)
+        self._reader.join(timeout=HANG_GUARD)
+        deadline = time.monotonic() + 5.0
+        alive = children
+        while alive and time.monotonic() < deadline:
+            alive = [child for child in alive if Path(f"/proc/{child}").exists()]
+            time.sleep(0.1)
+        return self.process.returncode, self.stderr, alive
 
 
 def _children(pid: int) -> list[int]:
     path = Path(f"/proc/{pid}/task/{pid}/children")
     return [int(child) for child in path.read_text().split()] if path.exists() else []
-
-
-def _interrupt(process: subprocess.Popen, signum: int) -> tuple[int, str, list[int]]:
-    """Send `signum`; (exit code, stderr, the children it had that are still alive a
-    few seconds after it ended)."""
-    children = _children(process.pid)
-    process.send_signal(signum)
-    _, stderr = process.communicate(timeout=HANG_GUARD)
-    deadline = time.monotonic() + 5.0
-    alive = children
-    while alive and time.monotonic() < deadline:
-        alive = [child for child in alive if Path(f"/proc/{child}").exists()]
-        time.sleep(0.1)
-    return process.returncode, stderr, alive
 
 
 def _running_run(out: Path) -> Path | None:
@@ -82,12 +96,13 @@ def _running_run(out: Path) -> Path | None:
 )
 def test_an_interrupted_run_stops_and_says_so(tmp_path, signum, ignore_sigint):
     out = tmp_path / "runs"
-    process = _start(
+    command = _Command(
         ["run", "--hand", "barrett", "--grasp", "pinch", "--out", str(out)], ignore_sigint
     )
-    _wait_for(lambda: _running_run(out) is not None, process)
-    time.sleep(2.0)  # into the run's stages
-    code, stderr, alive = _interrupt(process, signum)
+    # In the middle of the grasp's physics (seconds long), not as the run ends.
+    command.wait_for(lambda: "· executing" in command.stderr)
+    time.sleep(0.5)
+    code, stderr, alive = command.interrupt(signum)
 
     assert code == EXIT_INTERRUPTED, stderr
     assert stderr.strip().splitlines()[-1] == "interrupted", stderr
@@ -117,9 +132,9 @@ def test_an_interrupted_sweep_stops_its_workers_and_resumes(tmp_path):
         "--out", str(out),
     ]  # fmt: skip
     trials = out / "trials.jsonl"
-    process = _start(args)
-    _wait_for(lambda: trials.exists() and trials.read_text().count("\n") >= 1, process)
-    code, stderr, alive = _interrupt(process, signal.SIGINT)
+    command = _Command(args)
+    command.wait_for(lambda: trials.exists() and trials.read_text().count("\n") >= 1)
+    code, stderr, alive = command.interrupt(signal.SIGINT)
 
     assert code == EXIT_INTERRUPTED
     assert stderr.strip().splitlines()[-1] == "interrupted"
@@ -138,10 +153,10 @@ def test_an_interrupted_sweep_stops_its_workers_and_resumes(tmp_path):
 def test_an_interrupted_database_build_stops_its_workers_and_writes_nothing(tmp_path):
     out = tmp_path / "db" / "views.npz"
     args = ["db", "build", "--views-per-grasp", "200", "--workers", "2", "--out", str(out)]
-    process = _start(args)
-    _wait_for(lambda: len(_children(process.pid)) >= 2, process)
+    command = _Command(args)
+    command.wait_for(lambda: len(_children(command.process.pid)) >= 2)
     time.sleep(3.0)  # rendering
-    code, stderr, alive = _interrupt(process, signal.SIGINT)
+    code, stderr, alive = command.interrupt(signal.SIGINT)
 
     assert code == EXIT_INTERRUPTED
     assert stderr.strip().splitlines()[-1] == "interrupted"
@@ -151,10 +166,10 @@ def test_an_interrupted_database_build_stops_its_workers_and_writes_nothing(tmp_
 
 def test_an_interrupted_hand_check_stops(tmp_path):
     pictures = tmp_path / "pictures"
-    process = _start(["check-hand", "barrett", "--pictures", str(pictures)])
-    _wait_for(lambda: any(pictures.glob("*.png")), process)  # the preshapes drawn
+    command = _Command(["check-hand", "barrett", "--pictures", str(pictures)])
+    command.wait_for(lambda: any(pictures.glob("*.png")))  # the preshapes drawn
     time.sleep(2.0)  # into the hold trials
-    code, stderr, _ = _interrupt(process, signal.SIGTERM)
+    code, stderr, _ = command.interrupt(signal.SIGTERM)
 
     assert code == EXIT_INTERRUPTED
     assert stderr.strip().splitlines()[-1] == "interrupted"
