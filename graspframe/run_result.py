@@ -217,8 +217,9 @@ class RunResult:
             data["classification"] = self.human.classification.to_json()
         if self.plan is not None:
             data["plan"] = plan_json(self.plan)
-        if self.outcome is not None:
-            data["outcome"] = outcome_json(self.outcome)
+        if self.execution is not None:
+            data["outcome"] = outcome_json(self.execution.outcome)
+            data["joint_limits"] = self.execution.joint_limits.to_json()
             data["snapshots"] = None if self.snapshots is None else str(self.snapshots)
         if self.score is not None:
             data["score"] = self.score.to_json()

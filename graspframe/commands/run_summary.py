@@ -1,5 +1,6 @@
 """What `graspframe run` prints once a run is over: the classification, the plan, the
-outcome (held after the lift and under the pushes), the score and where the files are."""
+outcome (held after the lift and under the pushes), a joint the simulator moved past its
+limit, the score and where the files are."""
 
 from __future__ import annotations
 
@@ -56,6 +57,13 @@ def print_run_summary(result: RunResult, console: Console) -> None:
         console.print(f"contacts per real finger: {listing}")
         if outcome.failure_reason:
             console.print(f"[yellow]grasp failed:[/yellow] {outcome.failure_reason}")
+    if result.execution is not None and result.execution.joint_limits.violations:
+        violations = result.execution.joint_limits.violations
+        others = f" (and {len(violations) - 1} more joints)" if len(violations) > 1 else ""
+        console.print(
+            f"[yellow]the simulator broke a joint limit:[/yellow] {violations[0].describe()}"
+            f"{others}; see joint_limits in result.json"
+        )
     score = result.score
     if score is not None:
         if score.comparison is not None:

@@ -163,13 +163,13 @@ class HumanClosing:
     def grasp(self, world: World, motion: ArmMotion, log: ExecutionLog) -> Grip:
         world.hand.set_joint_targets(self.posture.open_q)
         opening_time = _travel_time(self.human, {}, self.posture.open_q) + OPENING_SETTLE_TIME
-        world.step(round(opening_time / world.timestep))
+        motion.idle(round(opening_time / world.timestep))
         motion.move_palm_linear(
             self.approach_direction_world, APPROACH_DISTANCE, APPROACH_SPEED, stop_on_contact=False
         )
         world.hand.set_joint_targets(self.posture.closed_q)
         travel_time = _travel_time(self.human, self.posture.open_q, self.posture.closed_q)
-        world.step(round((travel_time + SETTLE_TIME) / world.timestep))
+        motion.idle(round((travel_time + SETTLE_TIME) / world.timestep))
         return Grip()
 
 
