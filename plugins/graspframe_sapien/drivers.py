@@ -33,7 +33,7 @@ class _JointAccess:
             raise UnknownNameError("articulation joint", missing[0], order)
         self.names = tuple(names)
         self.joints = [joints[n] for n in names]
-        self.index = np.array([order.index(n) for n in names])
+        self.index = np.array([order.index(n) for n in names], dtype=int)
 
     def positions(self) -> NDArray[np.float64]:
         return np.asarray(self.articulation.get_qpos(), dtype=float)[self.index]
