@@ -98,14 +98,32 @@ class Coupling:
     breakaway_torque: float | None = None
 
 
+# [kg m^2] armature of a finger joint (`DriveGains.armature`): the order of a small motor's
+# rotor (1e-7 kg m^2) through a 100:1 gear. With it the built-in hands, driven palm first
+# into the table, keep their joint limits within 2 deg (without it: up to 113 deg past
+# them); it leaves their drives overdamped.
+FINGER_ARMATURE = 1.0e-3
+
+
 @dataclass(frozen=True)
 class DriveGains:
     """Joint-space PD drive of a simulated actuator: stiffness [N m/rad], damping
-    [N m s/rad], force limit [N m]. Compliant (fluidic) hands use a low stiffness."""
+    [N m s/rad], force limit [N m] ([N], [N/m], [N s/m] for a prismatic joint).
+    Compliant (fluidic) hands use a low stiffness.
+
+    armature: [kg m^2] ([kg] for a prismatic joint) inertia the actuator adds to its
+    joint, as a motor's rotor does through its gear. A simulator solves joint limits,
+    drives and contacts together by iteration; light links (a finger phalanx of a few
+    grams, the virtual links of the floating base) leave that badly conditioned, so a
+    contact pushing hard moves a joint past its limit and a stiff drive off its target.
+    The armature conditions it (docs/robots.md, "Joint limits and drives in the
+    simulator").
+    """
 
     stiffness: float
     damping: float
     force_limit: float
+    armature: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -54,7 +54,7 @@ from graspframe.transforms import make_T
 
 FORMAT = "graspframe.human_contacts/1"
 # Part of the cache key: bump it when the way references are simulated changes.
-PROCEDURE_VERSION = 4
+PROCEDURE_VERSION = 5
 SETTLE_TIME = 1.0  # [s] after the slowest joint could have reached its closed target
 OPENING_SETTLE_TIME = 0.2  # [s] after the slowest joint could have reached its open target
 # The hand takes its open posture this far back along its palm normal, then approaches.
