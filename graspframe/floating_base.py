@@ -38,6 +38,8 @@ FORCE_LIMIT = 1.0e4  # [N] or [N m]: the virtual drives never saturate on a gras
 # (tests/test_joint_limits.py, the heaviest design object of each built-in hand, from
 # the hold through the lift and the pushes, setpoint still): within 0.1 mm and 0.01 deg.
 ARMATURE = 1.0  # [kg] for x, y, z; [kg m^2] for yaw, pitch, roll
+PALM_POSITION_ACCURACY = 1.0e-4  # [m]
+PALM_ORIENTATION_ACCURACY = math.radians(0.01)  # [rad]
 DRIVE = DriveGains(stiffness=1.0e5, damping=2.0e3, force_limit=FORCE_LIMIT, armature=ARMATURE)
 
 
