@@ -50,10 +50,9 @@ def read_frames(reader: SpecReader, data: Mapping[str, Any]) -> dict[str, FrameO
 def read_drive(reader: SpecReader, data: Mapping[str, Any]) -> DriveGains:
     table = reader.table(data, "drive", "the spec", required=True)
     reader.keys(table, (*DRIVE_KEYS, DRIVE_ARMATURE), "[drive]")
-    return DriveGains(
-        *(reader.number(table, key, "[drive]") for key in DRIVE_KEYS),
-        armature=reader.number(table, DRIVE_ARMATURE, "[drive]", 0.0),
-    )
+    stiffness, damping, force_limit = (reader.number(table, k, "[drive]") for k in DRIVE_KEYS)
+    armature = reader.number(table, DRIVE_ARMATURE, "[drive]", 0.0)
+    return DriveGains(stiffness, damping, force_limit, armature)
 
 
 def _movable_joints(model: UrdfModel) -> tuple[list[str], dict[str, dict[str, Any]]]:
