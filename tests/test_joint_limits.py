@@ -15,21 +15,25 @@ from rich.console import Console
 
 from graspframe import events
 from graspframe.commands.run_summary import print_run_summary
+from graspframe.contacts import Contact
 from graspframe.floating_base import (
     PALM_ORIENTATION_ACCURACY,
     PALM_POSITION_ACCURACY,
     mount_floating,
 )
+from graspframe.grasps import HumanGrasp
 from graspframe.hal import HandDescription, ObjectDescription, World, WorldConfig
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.motion.joint_limits import TOLERANCE_DEG, JointLimitMonitor
 from graspframe.registry import default_registry
+from graspframe.results import write_json
 from graspframe.run_request import RunRequest
-from graspframe.run_result import RunResult
+from graspframe.run_result import RunResult, Score
 from graspframe.strategy.arm_path import floating_plan
 from graspframe.strategy.execution import Execution, ExecutionLog, Grip, execute
 from graspframe.strategy.executor import MethodStrategy
-from graspframe.strategy.held_test import HeldTest
+from graspframe.strategy.held_test import HeldTest, HeldVerdict
+from graspframe.strategy.human_reference import HumanReference, _load_cached
 from graspframe.strategy.reference_poses import R_object_palm_for_design
 from graspframe.testing.grasp_checks import design_object
 from graspframe.transforms import R_from_rpy, inv_T, make_T
@@ -269,3 +273,31 @@ def test_the_monitor_keeps_each_joints_largest_excess_and_tells_a_new_violation_
     slide = report.to_json()["excesses"][1]
     assert slide["joint"] == "slide" and slide["excess_mm"] == pytest.approx(2.5)
     assert [e.joint for e in report.violations] == ["hinge", "slide"]
+
+
+def test_the_human_references_violations_are_cached_and_reported(tmp_path):
+    violation = {"joint": "hh_thumb_ip", "excess_deg": 91.0, "position_deg": -111.0}
+    obj = REGISTRY.get_object("large_cylinder")
+    reference = HumanReference(
+        HumanGrasp.LARGE_DIAMETER,
+        obj.name,
+        (Contact("hh_palm", "palm", np.zeros(3), np.array([0, 0, 1.0]), np.zeros(3)),),
+        "simulated",
+        HeldVerdict(True, True, None),
+        joint_limit_violations=(violation,),
+    )
+    path = Path(tmp_path) / "reference.json"
+    write_json(path, reference.to_json())
+    cached = _load_cached(path, obj)
+    assert cached.joint_limit_violations == (violation,)
+
+    score = Score(
+        "cache", ("palm",), cached.held, (), (), human_joint_limit_violations=(violation,)
+    )
+    assert score.to_json()["human_joint_limit_violations"] == [violation]
+    result = RunResult("human", RunRequest(hand="human"), {}, path, score=score)
+    console = Console(record=True, width=200)
+    print_run_summary(result, console)
+    assert "joint limit of the human reference: hh_thumb_ip past it by 91.0 deg" in (
+        console.export_text()
+    )

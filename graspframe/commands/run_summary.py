@@ -18,6 +18,12 @@ def _tested(value: bool | None, skipped: str | None) -> str:
     return f"not tested ({skipped})" if skipped else "not tested"
 
 
+def _excess_text(violation: dict) -> str:
+    """A joint's excess past its limit, from its result.json entry: "12.3 deg" or "4.0 mm"."""
+    unit = "mm" if "excess_mm" in violation else "deg"
+    return f"{violation[f'excess_{unit}']:.1f} {unit}"
+
+
 def _quality_text(quality: Quality) -> str:
     if quality.error is not None:
         return f"not computed ({quality.error})"
@@ -79,6 +85,11 @@ def print_run_summary(result: RunResult, console: Console) -> None:
             console.print(
                 f"[yellow]the human reference does not hold:[/yellow] "
                 f"{score.human_held.failure} (scored against it all the same)"
+            )
+        for violation in score.human_joint_limit_violations:
+            console.print(
+                f"[yellow]the simulator broke a joint limit of the human reference:[/yellow] "
+                f"{violation['joint']} past it by {_excess_text(violation)}"
             )
         console.print(
             "grasp quality (Ferrari-Canny epsilon, L1): "

@@ -70,6 +70,8 @@ class HumanReference:
     source: "simulated", "cache" or the path of a measured-contacts file.
     held: the held test of the simulated grasp; None for measured contacts (not tested).
     picture: a PNG of the simulated grasp at the hold and after the lift (None: not drawn).
+    joint_limit_violations: the joints the simulator moved past their model limit by more
+        than the tolerance, as in result.json's joint_limits (simulated references only).
     """
 
     grasp: HumanGrasp
@@ -78,6 +80,7 @@ class HumanReference:
     source: str
     held: HeldVerdict | None = None
     picture: Path | None = None
+    joint_limit_violations: tuple[dict, ...] = ()
 
     @property
     def touching_fingers(self) -> list[str]:
@@ -93,6 +96,8 @@ class HumanReference:
         }
         if self.held is not None:
             data["held_test"] = self.held.to_dict()
+        if self.joint_limit_violations:
+            data["joint_limit_violations"] = list(self.joint_limit_violations)
         return data
 
 
@@ -146,6 +151,7 @@ def _load_cached(path: Path, obj: ObjectDescription) -> HumanReference:
         "cache",
         held,
         picture if picture.is_file() else None,
+        tuple(data.get("joint_limit_violations", ())),
     )
 
 
@@ -206,7 +212,8 @@ def simulate_human_grasp(
     outcome = execution.outcome
     verdict = outcome.held or HeldVerdict(False, None, outcome.failure_reason)
     contacts = tuple(c.in_object_frame(outcome.T_world_object_at_hold) for c in outcome.contacts)
-    reference = HumanReference(grasp, obj.name, contacts, "simulated", verdict, picture)
+    violations = tuple(e.to_dict() for e in execution.joint_limits.violations)
+    reference = HumanReference(grasp, obj.name, contacts, "simulated", verdict, picture, violations)
     if picture is not None:
         moments = [Snapshot.from_moment(m, robot.arm.joint_names) for m in execution.moments]
         _draw(picture, reference, verdict, robot, config, moments)
