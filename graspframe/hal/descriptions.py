@@ -98,13 +98,6 @@ class Coupling:
     breakaway_torque: float | None = None
 
 
-# [kg m^2] armature of a finger joint (`DriveGains.armature`): the order of a small motor's
-# rotor (1e-7 kg m^2) through a 100:1 gear. With it the built-in hands, driven palm first
-# into the table, keep their joint limits within 2 deg (without it: up to 113 deg past
-# them); it leaves their drives overdamped.
-FINGER_ARMATURE = 1.0e-3
-
-
 @dataclass(frozen=True)
 class DriveGains:
     """Joint-space PD drive of a simulated actuator: stiffness [N m/rad], damping

@@ -17,7 +17,6 @@ import math
 
 from graspframe.grasps import PALM, HumanGrasp, Preshape
 from graspframe.hal.descriptions import (
-    FINGER_ARMATURE,
     FINGERTIP_FRAMES_KEY,
     Coupling,
     DesignObject,
@@ -242,7 +241,7 @@ BARRETT = HandDescription(
     grasp_map=GRASP_MAP,
     # Electric finger motors behind worm gears: stiff enough to hold a pose, force limited
     # near the proximal effort limit (assumptions).
-    drive=DriveGains(stiffness=10.0, damping=0.5, force_limit=3.0, armature=FINGER_ARMATURE),
+    drive=DriveGains(stiffness=10.0, damping=0.5, force_limit=3.0),
     couplings=COUPLINGS,
     mass=1.2,
     summary="Barrett BH8-280: 3 fingers, 4 motors (spread + one per finger), 8 joints",

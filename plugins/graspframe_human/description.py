@@ -28,7 +28,6 @@ import math
 
 from graspframe.grasps import PALM, THUMB, HumanGrasp
 from graspframe.hal.descriptions import (
-    FINGER_ARMATURE,
     FINGERTIP_FRAMES_KEY,
     Coupling,
     DesignObject,
@@ -277,7 +276,7 @@ HUMAN = HandDescription(
     grasp_map=GRASP_MAP,
     # Moderate muscle-like drives (assumption): stiff enough to hold a posture against
     # gravity within a fraction of a degree, soft enough to conform to an object.
-    drive=DriveGains(stiffness=5.0, damping=0.2, force_limit=3.0, armature=FINGER_ARMATURE),
+    drive=DriveGains(stiffness=5.0, damping=0.2, force_limit=3.0),
     couplings=COUPLINGS,
     mass=0.464,  # [kg] sum of the URDF's link masses (0.45 kg of shapes + marker links)
     summary="Human right hand (reference), 190 mm: 20 joints, 16 driven + 4 coupled DIP",

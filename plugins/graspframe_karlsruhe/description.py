@@ -26,7 +26,6 @@ import numpy as np
 
 from graspframe.grasps import PALM, THUMB, HumanGrasp, Preshape
 from graspframe.hal.descriptions import (
-    FINGER_ARMATURE,
     FINGERTIP_FRAMES_KEY,
     AdapterShape,
     DesignObject,
@@ -66,7 +65,7 @@ MAX_EFFORT = 2.0  # [N m]
 # radian of squeeze, ~25 N at a fingertip 4 cm out; the damping makes it overdamped.
 # Softer (1 N m/rad) or weaker (0.5-1 N m) drives held fewer of the objects (the
 # measurements are in docs/robots/karlsruhe.md), so the drive is unchanged.
-DRIVE = DriveGains(stiffness=2.0, damping=0.1, force_limit=MAX_EFFORT, armature=FINGER_ARMATURE)
+DRIVE = DriveGains(stiffness=2.0, damping=0.1, force_limit=MAX_EFFORT)
 MASS = 0.647  # [kg] sum of the URDF link masses (OUR ASSUMPTION, within 0.5-0.8 kg)
 
 REAL_FINGERS = {
