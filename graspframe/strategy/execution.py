@@ -220,7 +220,8 @@ def execute(
     monitor = JointLimitMonitor(config.robot.model)
 
     def emit_noting_stage(kind: events.EventKind, **data: Any) -> None:
-        if kind is not events.EXECUTE_SNAPSHOT:  # a snapshot is taken within a stage
+        # A snapshot is taken within a stage, a joint-limit report is no stage.
+        if kind not in (events.EXECUTE_SNAPSHOT, events.EXECUTE_JOINT_LIMIT):
             monitor.stage = kind.name
         report(kind, **data)
 
