@@ -163,7 +163,8 @@ WORLD_BUILT = EventKind(
 )
 MOTION_CYCLE = EventKind(
     "motion.cycle",
-    "Every control cycle of the arm motion.",
+    "Every control cycle: the arm moving, or holding still (the hand closing, the hold, the "
+    "held test's waits and pushes).",
     (
         PayloadField(
             "q_arm",
@@ -299,6 +300,18 @@ EXECUTE_ABORTED = EventKind(
     "The arm could not carry the plan out; the grasp stops where it stands.",
     (PayloadField("reason", "the motion error, in words"),),
 )
+EXECUTE_JOINT_LIMIT = EventKind(
+    "execute.joint_limit",
+    "A joint has passed its model limit by more than the tolerance (2 deg, 2 mm), the "
+    "first time in the run; result.json's joint_limits keeps its largest excess.",
+    (
+        PayloadField("joint", "the joint's name"),
+        PayloadField("position", "[rad] ([m] for a prismatic joint) its measured position"),
+        PayloadField("lower", "[rad] ([m]) its lower limit in the model"),
+        PayloadField("upper", "[rad] ([m]) its upper limit in the model"),
+        PayloadField("excess", "[rad] ([m]) past the nearer limit"),
+    ),
+)
 SCORE_DONE = EventKind(
     "score.done",
     "The robot grasp is scored against the human reference.",
@@ -331,5 +344,6 @@ EVENT_KINDS: tuple[EventKind, ...] = (
     EXECUTE_DISTURBANCE,
     EXECUTE_SNAPSHOT,
     EXECUTE_ABORTED,
+    EXECUTE_JOINT_LIMIT,
     SCORE_DONE,
 )

@@ -97,7 +97,9 @@ class Score:
     human_held: the simulated reference's own held test (None for measured contacts);
     robot_contacts, human_contacts: object frame; robot, human: their virtual fingers
     and `comparison` (None when they could not be scored: `error` says why);
-    quality_robot, quality_human: grasp quality of each contact set.
+    quality_robot, quality_human: grasp quality of each contact set;
+    human_joint_limit_violations: the human reference's joints the simulator moved past
+    their model limit (as in result.json's joint_limits).
     """
 
     human_source: str
@@ -111,12 +113,14 @@ class Score:
     error: str | None = None
     quality_robot: Quality = field(default_factory=Quality)
     quality_human: Quality = field(default_factory=Quality)
+    human_joint_limit_violations: tuple[dict, ...] = ()
 
     def to_json(self) -> dict[str, Any]:
         data: dict[str, Any] = {
             "human_source": self.human_source,
             "human_touching_fingers": list(self.human_touching_fingers),
             "human_held_test": None if self.human_held is None else self.human_held.to_dict(),
+            "human_joint_limit_violations": list(self.human_joint_limit_violations),
         }
         if self.error is not None:
             data["error"] = self.error
@@ -218,8 +222,9 @@ class RunResult:
             data["classification"] = self.human.classification.to_json()
         if self.plan is not None:
             data["plan"] = plan_json(self.plan)
-        if self.outcome is not None:
-            data["outcome"] = outcome_json(self.outcome)
+        if self.execution is not None:
+            data["outcome"] = outcome_json(self.execution.outcome)
+            data["joint_limits"] = self.execution.joint_limits.to_json()
             data["snapshots"] = None if self.snapshots is None else str(self.snapshots)
         if self.score is not None:
             data["score"] = self.score.to_json()

@@ -47,6 +47,7 @@ def score_grasp(
         human_contacts=tuple(reference.contacts),
         quality_robot=contact_quality(list(robot_contacts), obj),
         quality_human=contact_quality(list(reference.contacts), obj),
+        human_joint_limit_violations=reference.joint_limit_violations,
     )
     try:
         robot_vf = _virtual_fingers("the robot", robot_contacts)

@@ -13,6 +13,7 @@ from graspframe_landmarks.features import FEATURE_NAMES
 from graspframe_sapien.drivers import SapienHandDriver
 from graspframe_sapien.world import SapienWorld
 
+from graspframe import floating_base
 from graspframe.convex import ConvexPieces
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.descriptions import ArmDescription, HandDescription
@@ -70,6 +71,8 @@ VirtualFingerGrasp.touching_real_fingers
 IkSolver.hand_q_in_model
 Registry.add_plugin
 CollisionModel.colliding_links
+floating_base.PALM_POSITION_ACCURACY  # the accuracy it states, measured by a test
+floating_base.PALM_ORIENTATION_ACCURACY
 SapienHandDriver.held_leaders
 SapienWorld.teleport_hand
 FEATURE_NAMES

@@ -1,5 +1,6 @@
 """What `graspframe run` prints once a run is over: the classification, the plan, the
-outcome (held after the lift and under the pushes), the score and where the files are."""
+outcome (held after the lift and under the pushes), a joint the simulator moved past its
+limit, the score and where the files are."""
 
 from __future__ import annotations
 
@@ -15,6 +16,12 @@ def _tested(value: bool | None, skipped: str | None) -> str:
     if value is not None:
         return str(value)
     return f"not tested ({skipped})" if skipped else "not tested"
+
+
+def _excess_text(violation: dict) -> str:
+    """A joint's excess past its limit, from its result.json entry: "12.3 deg" or "4.0 mm"."""
+    unit = "mm" if "excess_mm" in violation else "deg"
+    return f"{violation[f'excess_{unit}']:.1f} {unit}"
 
 
 def _quality_text(quality: Quality) -> str:
@@ -56,6 +63,13 @@ def print_run_summary(result: RunResult, console: Console) -> None:
         console.print(f"contacts per real finger: {listing}")
         if outcome.failure_reason:
             console.print(f"[yellow]grasp failed:[/yellow] {outcome.failure_reason}")
+    if result.execution is not None and result.execution.joint_limits.violations:
+        violations = result.execution.joint_limits.violations
+        others = f" (and {len(violations) - 1} more joints)" if len(violations) > 1 else ""
+        console.print(
+            f"[yellow]the simulator broke a joint limit:[/yellow] {violations[0].describe()}"
+            f"{others}; see joint_limits in result.json"
+        )
     score = result.score
     if score is not None:
         if score.comparison is not None:
@@ -71,6 +85,11 @@ def print_run_summary(result: RunResult, console: Console) -> None:
             console.print(
                 f"[yellow]the human reference does not hold:[/yellow] "
                 f"{score.human_held.failure} (scored against it all the same)"
+            )
+        for violation in score.human_joint_limit_violations:
+            console.print(
+                f"[yellow]the simulator broke a joint limit of the human reference:[/yellow] "
+                f"{violation['joint']} past it by {_excess_text(violation)}"
             )
         console.print(
             "grasp quality (Ferrari-Canny epsilon, L1): "

@@ -94,6 +94,8 @@ def run_trial(spec: TrialSpec) -> dict:
     outcome, score = result.outcome, result.score
     if outcome is None:  # run_grasp either raises or executes the grasp
         raise RuntimeError(f"run {result.run_id} ended without executing the grasp")
+    assert result.execution is not None  # an outcome comes with its execution
+    joint_limits = result.execution.joint_limits
     comparison = None if score is None else score.comparison
     robot_quality = {} if score is None else dict(score.quality_robot.values or {})
     human_quality = {} if score is None else dict(score.quality_human.values or {})
@@ -118,6 +120,8 @@ def run_trial(spec: TrialSpec) -> dict:
         robot_volume=robot_quality.get("volume_l1"),
         human_volume=human_quality.get("volume_l1"),
         human_held=human_held,
+        limit_excess_deg=joint_limits.largest_excess_deg,
+        limit_violations=[e.joint for e in joint_limits.violations],
         wall_time=time.perf_counter() - started,
     )
     return row

@@ -101,11 +101,22 @@ class Coupling:
 @dataclass(frozen=True)
 class DriveGains:
     """Joint-space PD drive of a simulated actuator: stiffness [N m/rad], damping
-    [N m s/rad], force limit [N m]. Compliant (fluidic) hands use a low stiffness."""
+    [N m s/rad], force limit [N m] ([N], [N/m], [N s/m] for a prismatic joint).
+    Compliant (fluidic) hands use a low stiffness.
+
+    armature: [kg m^2] ([kg] for a prismatic joint) inertia the actuator adds to its
+    joint, as a motor's rotor does through its gear. A simulator solves joint limits,
+    drives and contacts together by iteration; light links (a finger phalanx of a few
+    grams, the virtual links of the floating base) leave that badly conditioned, so a
+    contact pushing hard moves a joint past its limit and a stiff drive off its target.
+    The armature conditions it (docs/robots.md, "Joint limits and drives in the
+    simulator").
+    """
 
     stiffness: float
     damping: float
     force_limit: float
+    armature: float = 0.0
 
 
 @dataclass(frozen=True)

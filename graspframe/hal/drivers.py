@@ -97,6 +97,11 @@ class HandDriver(ABC):
     def joint_positions(self) -> dict[str, float]:
         """Measured positions [rad] of the actuated joints."""
 
+    def follower_positions(self) -> dict[str, float]:
+        """Measured positions [rad] of the model's <mimic> followers (the joints its model
+        couples to a leader: `Coupling.in_model`); none when the backend cannot tell."""
+        return {}
+
     @abstractmethod
     def contacts(self) -> list[Contact]:
         """Current contacts between the hand and the object, in the world frame."""

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from dataclasses import replace
 
 import numpy as np
 
@@ -31,7 +32,7 @@ HOLD_STIFFNESS_FACTOR = 20.0
 def holding_drive(drive: DriveGains) -> DriveGains:
     """The drive of a joint held by a worm gear: much stiffer and not limited by the
     motor's force (the load cannot back-drive the gear)."""
-    return DriveGains(drive.stiffness * HOLD_STIFFNESS_FACTOR, drive.damping, math.inf)
+    return replace(drive, stiffness=drive.stiffness * HOLD_STIFFNESS_FACTOR, force_limit=math.inf)
 
 
 class HandController:

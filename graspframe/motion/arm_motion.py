@@ -2,7 +2,9 @@
 
 One control cycle (CONTROL_PERIOD): the ruckig online generator yields the next joint
 setpoint within the arm's velocity, acceleration and jerk limits, the arm driver gets it
-as its target, and the world advances by the physics steps of one cycle. A straight-line
+as its target, and the world advances by the physics steps of one cycle. While the arm
+holds still (the hand closing, the hold, the held test's waits) `idle` runs the world in
+the same cycles, so observers hear of every cycle of a grasp. A straight-line
 palm move solves IK (warm-started) for the waypoint one cycle ahead and hands it to
 ruckig; when asked to, it checks the palm sensor after every cycle and brakes at the first
 contact, so the stop begins within one control cycle of the touch.
@@ -79,8 +81,9 @@ class LinearMoveResult:
 class ArmMotion:
     """Drives the arm of one world: IK, the online trajectory and the control loop.
 
-    on_cycle: called after every control cycle with this object (observers record the
-    palm path and joint positions from it).
+    on_cycle: called after every control cycle, moving (`cycle`) or holding still
+    (`idle`), with this object (observers record the palm path and joint positions from
+    it; the execution checks the joint limits).
     """
 
     def __init__(
@@ -118,6 +121,16 @@ class ArmMotion:
         self.world.step(self.steps_per_cycle)
         if self.on_cycle is not None:
             self.on_cycle(self)
+
+    def idle(self, steps: int) -> None:
+        """Run the world `steps` physics steps with the arm holding its target: whole
+        control cycles, then the remainder, with on_cycle after each."""
+        while steps > 0:
+            n = min(steps, self.steps_per_cycle)
+            self.world.step(n)
+            steps -= n
+            if self.on_cycle is not None:
+                self.on_cycle(self)
 
     def solve_palm(self, T_world_palm: NDArray[np.float64]) -> NDArray[np.float64]:
         """Arm joints [rad] that put the palm at T_world_palm (warm-started IK)."""

@@ -16,7 +16,8 @@ from graspframe.urdf_model import FrameOffset, UrdfModel
 
 FRAME_KEYS = ("parent", "xyz", "rpy", "rpy_deg", "pad")
 JOINT_KEYS = ("names", "max_velocity", "max_effort", "max_acceleration", "max_jerk")
-DRIVE_KEYS = ("stiffness", "damping", "force_limit")
+DRIVE_KEYS = ("stiffness", "damping", "force_limit")  # required
+DRIVE_ARMATURE = "armature"  # optional, 0 when left out
 
 
 def read_packages(reader: SpecReader, data: Mapping[str, Any]) -> dict[str, Path]:
@@ -48,8 +49,10 @@ def read_frames(reader: SpecReader, data: Mapping[str, Any]) -> dict[str, FrameO
 
 def read_drive(reader: SpecReader, data: Mapping[str, Any]) -> DriveGains:
     table = reader.table(data, "drive", "the spec", required=True)
-    reader.keys(table, DRIVE_KEYS, "[drive]")
-    return DriveGains(*(reader.number(table, key, "[drive]") for key in DRIVE_KEYS))
+    reader.keys(table, (*DRIVE_KEYS, DRIVE_ARMATURE), "[drive]")
+    stiffness, damping, force_limit = (reader.number(table, k, "[drive]") for k in DRIVE_KEYS)
+    armature = reader.number(table, DRIVE_ARMATURE, "[drive]", 0.0)
+    return DriveGains(stiffness, damping, force_limit, armature)
 
 
 def _movable_joints(model: UrdfModel) -> tuple[list[str], dict[str, dict[str, Any]]]:

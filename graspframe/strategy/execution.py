@@ -9,6 +9,9 @@ graspframe/strategy/human_reference.py), then the one held test (held_test.py) j
 the grasp. An `ExecutionLog` goes along: observers hear every step through its
 `emit(kind, **data)` (the "execute.*" kinds of graspframe/events.py), and it keeps the
 `Moment`s pictures are drawn from (the policy's own, then "hold" and "after lift").
+Every control cycle the measured joints are checked against the model's limits
+(motion/joint_limits.py): a joint past its limit is reported (execute.joint_limit), and
+the execution keeps each joint's largest excess.
 
 A policy that the arm cannot carry out (a pose out of reach, a line through a
 singularity: `MotionError`) ends the grasp where it stands; the outcome says why.
@@ -18,7 +21,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,9 +29,11 @@ from numpy.typing import NDArray
 from graspframe import events
 from graspframe.contacts import Contact
 from graspframe.errors import MotionError
+from graspframe.hal.descriptions import joints_by_name
 from graspframe.hal.drivers import Backend, World, WorldConfig
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
+from graspframe.motion.joint_limits import JointLimitMonitor, JointLimitReport
 from graspframe.strategy import held_test
 from graspframe.strategy.held_test import HeldTest, HeldVerdict, InHandMotion, LiftResult
 
@@ -182,11 +187,13 @@ class GraspOutcome:
 
 @dataclass(frozen=True)
 class Execution:
-    """An executed grasp: its outcome and its moments (the robot's joints, the object and
-    the contacts, for pictures), in the order they happened."""
+    """An executed grasp: its outcome, its moments (the robot's joints, the object and
+    the contacts, for pictures) in the order they happened, and the joints that passed
+    their model limits."""
 
     outcome: GraspOutcome
     moments: tuple[Moment, ...] = ()
+    joint_limits: JointLimitReport = field(default_factory=JointLimitReport)
 
 
 def execute(
@@ -209,13 +216,48 @@ def execute(
         raise ValueError("execute needs the mounted robot (config.robot)")
     if config.object is None:
         raise ValueError("execute needs an object to grasp (config.object)")
-    log = ExecutionLog() if emit is None else ExecutionLog(emit)
+    report = emit or (lambda kind, **data: None)
+    monitor = JointLimitMonitor(config.robot.model)
+
+    def emit_noting_stage(kind: events.EventKind, **data: Any) -> None:
+        # A snapshot is taken within a stage, a joint-limit report is no stage.
+        if kind not in (events.EXECUTE_SNAPSHOT, events.EXECUTE_JOINT_LIMIT):
+            monitor.stage = kind.name
+        report(kind, **data)
+
+    log = ExecutionLog(emit_noting_stage)
+    arm_joint_names = config.robot.arm.joint_names
     with backend.create_world(config) as world:
         if on_world is not None:
             on_world(world)
-        motion = ArmMotion(world, config.robot, config.T_world_arm_base, on_cycle=on_cycle)
+
+        def each_cycle(motion: ArmMotion) -> None:
+            check_joint_limits(world, arm_joint_names, monitor, log.emit)
+            if on_cycle is not None:
+                on_cycle(motion)
+
+        motion = ArmMotion(world, config.robot, config.T_world_arm_base, on_cycle=each_cycle)
         outcome = run_policy(world, motion, policy, config.object, held, log)
-    return Execution(outcome, tuple(log.moments))
+    return Execution(outcome, tuple(log.moments), monitor.report())
+
+
+def check_joint_limits(
+    world: World, arm_joint_names: tuple[str, ...], monitor: JointLimitMonitor, emit: Emit
+) -> None:
+    """Give `monitor` the measured joints now (the arm's, the hand's and its followers');
+    report each joint that has just passed its limit by more than the tolerance."""
+    assert world.arm is not None  # execute moves the hand with an arm or the floating base
+    q_hand = {**world.hand.joint_positions(), **world.hand.follower_positions()}
+    q_by_joint = joints_by_name(arm_joint_names, world.arm.joint_positions(), q_hand)
+    for excess in monitor.check(world.time, q_by_joint):
+        emit(
+            events.EXECUTE_JOINT_LIMIT,
+            joint=excess.joint,
+            position=excess.position,
+            lower=excess.limit.lower,
+            upper=excess.limit.upper,
+            excess=excess.excess,
+        )
 
 
 def run_policy(

@@ -134,7 +134,7 @@ class _Strategy:
             corrections, goals = 0, [self.plan.T_world_palm_goal[:3, 3].tolist()]
             palm_contact = self._approach_non_volar()
         self._close(preshape.closed_q)
-        self.world.step(round(self.p.hold_time / self.world.timestep))
+        self.motion.idle(round(self.p.hold_time / self.world.timestep))
         goals_world = tuple((float(x), float(y), float(z)) for x, y, z in goals)
         return Grip(corrections, palm_contact, goals_world)
 
@@ -270,7 +270,7 @@ class _Strategy:
         start = world.time
         # Move for at least the shortest closing time before testing for the stop.
         while world.time - start < self.p.close_time_limit:
-            world.step(check_every)
+            self.motion.idle(check_every)
             current = world.hand.joint_positions()
             speed = max(abs(current[n] - previous[n]) for n in names) / (
                 check_every * world.timestep

@@ -212,7 +212,7 @@ class HeldTest:
             # a push of no force would pass every grasp: report it as not tested
             return replace(lifted_verdict, disturbance_skipped="disturbance fraction 0")
         try:
-            pushed = self.push(world, obj)
+            pushed = self.push(world, motion, obj)
         except NotImplementedError as exc:
             return replace(lifted_verdict, disturbance_skipped=str(exc))
         slip = self.disturbance_failure(pushed)
@@ -236,14 +236,16 @@ class HeldTest:
         settle_steps = round(self.settle_time / world.timestep)
         sample_steps = 10  # [steps] between samples while settling
         for _ in range(max(1, settle_steps // sample_steps)):
-            world.step(sample_steps)
+            motion.idle(sample_steps)
             samples.append(T_palm_object(world))
         rise = float(object_probe(world).T_world_object()[2, 3] - z_object_hold)
         moved = in_hand_motion(T_palm_object_hold, samples)
         held = rise >= self.held_rise_fraction * self.lift_height and self.within_bounds(moved)
         return LiftResult(rise, moved, held, world.hand.contacts())
 
-    def push(self, world: World, obj: ObjectDescription) -> dict[str, InHandMotion]:
+    def push(
+        self, world: World, motion: ArmMotion, obj: ObjectDescription
+    ) -> dict[str, InHandMotion]:
         """Push the object with disturbance_fraction of its weight along each world axis
         in turn; per direction, its largest motion in the hand from its pose before the
         pushes. Raises NotImplementedError when the backend cannot push an object."""
@@ -257,7 +259,7 @@ class HeldTest:
             probe.apply_force(force * np.asarray(direction))
             samples = []
             for _ in range(checks):
-                world.step(check_every)
+                motion.idle(check_every)
                 samples.append(T_palm_object(world))
             probe.apply_force(None)
             motion_by_direction[label] = in_hand_motion(T_palm_object_ref, samples)

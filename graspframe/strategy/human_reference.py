@@ -59,7 +59,7 @@ FORMAT = "graspframe.human_contacts/1"
 CACHE_KIND = "human_references"
 PICTURE = "picture.png"  # the picture of the simulated grasp, in its cache entry
 # Part of the cache key: bump it when the way references are simulated changes.
-PROCEDURE_VERSION = 4
+PROCEDURE_VERSION = 5
 SETTLE_TIME = 1.0  # [s] after the slowest joint could have reached its closed target
 OPENING_SETTLE_TIME = 0.2  # [s] after the slowest joint could have reached its open target
 # The hand takes its open posture this far back along its palm normal, then approaches.
@@ -75,6 +75,8 @@ class HumanReference:
     source: "simulated", "cache" or the path of a measured-contacts file.
     held: the held test of the simulated grasp; None for measured contacts (not tested).
     picture: a PNG of the simulated grasp at the hold and after the lift (None: not drawn).
+    joint_limit_violations: the joints the simulator moved past their model limit by more
+        than the tolerance, as in result.json's joint_limits (simulated references only).
     """
 
     grasp: HumanGrasp
@@ -83,6 +85,7 @@ class HumanReference:
     source: str
     held: HeldVerdict | None = None
     picture: Path | None = None
+    joint_limit_violations: tuple[dict, ...] = ()
 
     @property
     def touching_fingers(self) -> list[str]:
@@ -98,6 +101,8 @@ class HumanReference:
         }
         if self.held is not None:
             data["held_test"] = self.held.to_dict()
+        if self.joint_limit_violations:
+            data["joint_limit_violations"] = list(self.joint_limit_violations)
         return data
 
 
@@ -163,6 +168,7 @@ def _cached_reference(entry: CacheEntry, obj: ObjectDescription) -> HumanReferen
         "cache",
         HeldVerdict.from_dict(values["held_test"]),
         entry.files.get(PICTURE),
+        tuple(values.get("joint_limit_violations", ())),
     )
 
 
@@ -180,13 +186,13 @@ class HumanClosing:
     def grasp(self, world: World, motion: ArmMotion, log: ExecutionLog) -> Grip:
         world.hand.set_joint_targets(self.posture.open_q)
         opening_time = _travel_time(self.human, {}, self.posture.open_q) + OPENING_SETTLE_TIME
-        world.step(round(opening_time / world.timestep))
+        motion.idle(round(opening_time / world.timestep))
         motion.move_palm_linear(
             self.approach_direction_world, APPROACH_DISTANCE, APPROACH_SPEED, stop_on_contact=False
         )
         world.hand.set_joint_targets(self.posture.closed_q)
         travel_time = _travel_time(self.human, self.posture.open_q, self.posture.closed_q)
-        world.step(round((travel_time + SETTLE_TIME) / world.timestep))
+        motion.idle(round((travel_time + SETTLE_TIME) / world.timestep))
         return Grip()
 
 
@@ -223,7 +229,8 @@ def simulate_human_grasp(
     outcome = execution.outcome
     verdict = outcome.held or HeldVerdict(False, None, outcome.failure_reason)
     contacts = tuple(c.in_object_frame(outcome.T_world_object_at_hold) for c in outcome.contacts)
-    reference = HumanReference(grasp, obj.name, contacts, "simulated", verdict, picture)
+    violations = tuple(e.to_dict() for e in execution.joint_limits.violations)
+    reference = HumanReference(grasp, obj.name, contacts, "simulated", verdict, picture, violations)
     if picture is not None:
         moments = [Snapshot.from_moment(m, robot.arm.joint_names) for m in execution.moments]
         _draw(picture, reference, verdict, robot, config, moments)

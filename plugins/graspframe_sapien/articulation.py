@@ -67,9 +67,11 @@ def active_joints(articulation) -> dict[str, sapien.physx.PhysxArticulationJoint
 def configure_drives(
     articulation,
     gains_by_joint: Mapping[str, DriveGains],
-    followers: Mapping[str, object],
+    followers: Mapping[str, tuple[str, float, float]],
 ) -> None:
-    """PD drives on the named joints; mimic followers get none (the coupling moves them)."""
+    """PD drives and armatures on the named joints; mimic followers (follower -> (leader,
+    multiplier, offset)) get no drive (the coupling moves them) but their leader's
+    armature."""
     joints = active_joints(articulation)
     for name, gains in gains_by_joint.items():
         if name not in joints:
@@ -77,6 +79,10 @@ def configure_drives(
         if name in followers:
             continue
         joints[name].set_drive_property(gains.stiffness, gains.damping, gains.force_limit)
+        joints[name].set_armature([gains.armature])
+    for follower, (leader, _multiplier, _offset) in followers.items():
+        if follower in joints and leader in gains_by_joint:
+            joints[follower].set_armature([gains_by_joint[leader].armature])
 
 
 def set_qpos_by_name(articulation, q_by_joint: Mapping[str, float]) -> None:

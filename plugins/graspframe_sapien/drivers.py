@@ -33,7 +33,7 @@ class _JointAccess:
             raise UnknownNameError("articulation joint", missing[0], order)
         self.names = tuple(names)
         self.joints = [joints[n] for n in names]
-        self.index = np.array([order.index(n) for n in names])
+        self.index = np.array([order.index(n) for n in names], dtype=int)
 
     def positions(self) -> NDArray[np.float64]:
         return np.asarray(self.articulation.get_qpos(), dtype=float)[self.index]
@@ -92,6 +92,9 @@ class SapienHandDriver(HandDriver):
         self._articulation = articulation
         self._object_entity = object_entity
         self._access = _JointAccess(articulation, hand.joint_names)
+        self._followers = _JointAccess(
+            articulation, [c.follower for c in hand.couplings if c.in_model]
+        )
         self._joint_by_name = dict(zip(self._access.names, self._access.joints, strict=True))
         self._controller = HandController(hand)
         self._holding: set[str] = set()  # joints whose drive is the worm gear's hold
@@ -151,6 +154,10 @@ class SapienHandDriver(HandDriver):
 
     def joint_positions(self) -> dict[str, float]:
         return dict(zip(self._access.names, map(float, self._access.positions()), strict=True))
+
+    def follower_positions(self) -> dict[str, float]:
+        names, positions = self._followers.names, self._followers.positions()
+        return dict(zip(names, map(float, positions), strict=True))
 
     def contacts(self) -> list[Contact]:
         if self._object_entity is None:
