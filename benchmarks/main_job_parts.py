@@ -10,7 +10,10 @@ times its own stages by wrapping the runner's stage functions and the observers'
 and its share of the wall time. "inputs" is reading the request's names and files;
 "simulation" is the execution in the world without the recording's share; "other" is
 what no part covers in the process (the run folder, the summary); "start, exit" is
-Python's start and the process's exit.
+Python's start and the process's exit. The parts count the modules a stage imports when
+it first needs them (SAPIEN in the simulation, rerun in the recording) in that stage;
+one more run under `python -X importtime` sums every import of the job, wherever it
+happens (importtime's own bookkeeping included).
 """
 
 from __future__ import annotations
@@ -91,6 +94,26 @@ def measured_run() -> tuple[float, dict[str, float]]:
     return wall_s, json.loads(line.removeprefix("PARTS "))
 
 
+def import_time_s() -> float:
+    """Every module import of one main-job process [s]: the sum of the top-level imports'
+    cumulative times that `python -X importtime` reports."""
+    with tempfile.TemporaryDirectory(prefix="graspframe-bench-") as out:
+        command = [sys.executable, "-X", "importtime", "-m", "graspframe.cli"]
+        done = subprocess.run(
+            [*command, "run", "--hand", "karlsruhe", "--out", out], capture_output=True, text=True
+        )
+    if done.returncode != 0:
+        raise SystemExit(f"the main job failed:\n{done.stderr[-2000:]}")
+    total_us = 0
+    for line in done.stderr.splitlines():
+        # "import time: self [us] | cumulative | name", nested imports indented
+        if line.startswith("import time:") and "cumulative" not in line:
+            _, cumulative_us, name = line.removeprefix("import time:").split("|")
+            if not name.startswith("  "):
+                total_us += int(cumulative_us)
+    return total_us / 1e6
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
@@ -110,6 +133,8 @@ def main() -> None:
     outside = wall_s - in_process
     print(f"  {'other':<11} {other:6.2f} s  {100 * other / wall_s:5.1f} %")
     print(f"  {'start, exit':<11} {outside:6.2f} s  {100 * outside / wall_s:5.1f} %")
+    imports_s = import_time_s()
+    print(f"every import of the job (python -X importtime, one run): {imports_s:.2f} s")
 
 
 if __name__ == "__main__":

@@ -2,12 +2,14 @@
 
     python benchmarks/run.py [--quick]
 
-Runs benchmarks/startup.py (`graspframe --help`, the main job end to end),
-benchmarks/recording.py (the recording's cost as a ratio), benchmarks/db_build.py (the
+Runs benchmarks/startup.py (`graspframe --help`, a mistyped name, the main job end to
+end), benchmarks/main_job_parts.py (the main job by part, every import of it),
+benchmarks/recording.py (the recording's cost as a ratio), benchmarks/interrupt.py (from
+Ctrl-C to the exit of each long command), benchmarks/db_build.py (the
 view database at the shipped settings, views per second) and benchmarks/sweep.py (the
 full A + B sweep with 1 and 2 workers, trials per second and the speed-up), each in a
 fresh process, and prints their figures as they come. --quick runs the sweep for one
-hand and one direction and builds a tenth of the database. Takes about 6 minutes on 2
+hand and one direction and builds a tenth of the database. Takes about 10 minutes on 2
 cores without --quick.
 """
 
@@ -28,7 +30,9 @@ def figures(quick: bool) -> list[list[str]]:
     views = ["--views-per-grasp", "200"] if quick else []
     return [
         ["startup.py", "--repeats", "3"],
+        ["main_job_parts.py", "--repeats", "3"],
         ["recording.py", "--repeats", "3"],
+        ["interrupt.py", "--repeats", "3" if not quick else "1"],
         ["db_build.py", *views],
         ["sweep.py", "--repeats", "1", *sweep],
     ]
