@@ -11,12 +11,8 @@ from __future__ import annotations
 
 import json
 import logging
-import signal
 import sys
-import threading
 import traceback
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated
 
@@ -36,6 +32,7 @@ from graspframe.defaults import (
 )
 from graspframe.errors import GraspframeError, InputError
 from graspframe.experiments.trials import TRIAL_TIME_LIMIT
+from graspframe.interrupts import ignore_until_exit, interruptible
 
 app = typer.Typer(
     name="graspframe",
@@ -381,32 +378,9 @@ def db_build(
     raise typer.Exit(db_build_command(views_per_grasp, size, workers, seed, out))
 
 
-def _stop(signum: int, frame: object) -> None:
-    raise KeyboardInterrupt(signal.Signals(signum).name)
-
-
-@contextmanager
-def _interruptible() -> Iterator[None]:
-    """Ctrl-C (SIGINT) and SIGTERM stop a command alike: a KeyboardInterrupt in the main
-    thread, so that each stage cleans up on its way out (the world released, workers
-    killed, the recording closed, result.json marked "interrupted"). This holds also
-    where SIGINT arrives ignored, as a shell starts its background jobs."""
-    if threading.current_thread() is not threading.main_thread():  # signals need it
-        yield
-        return
-    previous = {number: signal.getsignal(number) for number in (signal.SIGINT, signal.SIGTERM)}
-    for number in previous:
-        signal.signal(number, _stop)
-    try:
-        yield
-    finally:
-        for number, handler in previous.items():
-            signal.signal(number, handler)
-
-
 def main(argv: list[str] | None = None) -> int:
     """Entry point: run the app, turn deliberate errors into one line and an exit code."""
-    with _interruptible():
+    with interruptible():
         return _run_app(argv)
 
 
@@ -444,11 +418,7 @@ def _run_app(argv: list[str] | None) -> int:
 
 def _console_script() -> None:
     code = main()
-    # The command has ended and said how; the interpreter's shutdown (about 0.3 s: the
-    # simulator and the plugins released) resets the signal handlers to the defaults,
-    # under which a late Ctrl-C would kill the process and lose this exit code.
-    for number in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(number, signal.SIG_IGN)
+    ignore_until_exit()  # the command has ended: its exit code stands (interrupts.py)
     sys.exit(code)
 
 
