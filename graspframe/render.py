@@ -198,6 +198,32 @@ class Renderer:
         alpha = small[..., 3] / 255.0
         return bgr, alpha.astype(np.float32, copy=False)
 
+    def depth(self, camera: Camera, positions: NDArray[np.float32]) -> NDArray[np.float32]:
+        """The distance along the optical axis [m] (the camera frame's z) of the nearest
+        triangle at each pixel centre, H x W, +inf where no triangle covers it; triangles
+        given in the camera frame [m]. One sample per pixel, as a depth sensor measures."""
+        n = len(positions)
+        if n > self._capacity:
+            raise RenderError(f"{n // 3} triangles exceed the renderer's {self._capacity // 3}")
+        data = np.zeros((n, 9), dtype=np.float32)
+        data[:, :3] = positions
+        data[:, 5] = 1.0  # any normal: only the depth buffer is read
+        self.vbo.write(data.tobytes())
+        self._uniform("projection").write(camera.projection().T.copy().tobytes())
+        fbo = self._framebuffer(camera.width, camera.height)
+        fbo.use()
+        fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        self.ctx.enable(self.ctx.DEPTH_TEST)
+        self.ctx.disable(self.ctx.CULL_FACE)
+        self.vao.render(vertices=n)
+        raw = np.frombuffer(fbo.read(components=1, attachment=-1, dtype="f4"), dtype=np.float32)
+        window = raw.reshape(camera.height, camera.width).astype(np.float64)
+        # Window depth [0, 1] -> NDC [-1, 1] -> the camera's z, with projection()'s planes.
+        z_ndc = 2.0 * window - 1.0
+        z = 2.0 * FAR * NEAR / ((FAR + NEAR) - z_ndc * (FAR - NEAR))
+        z[window >= 1.0] = np.inf
+        return z.astype(np.float32)
+
     def release(self) -> None:
         self.ctx.release()
 
