@@ -1,14 +1,16 @@
 """The servo strategy: the method's strategy (executor.py) with the object's position
 measured by a depth camera and the hand moved by the correction before it closes.
 
-For the grasps the method leaves without feedback (the non-volar ones): at the
-pre-approach pose, the camera's image (the robot filtered out) is fitted with the
-object's model (perception/localise.py); when the fit is accepted and the object is more
-than `tolerance` from where the robot believes it, the whole approach is shifted by the
-difference and the hand moves to the shifted pre-approach pose; this repeats until the
-estimate moves less than the tolerance or `max_steps` is reached. At the standoff, with
-the hand now partly in front of the object, the same loop runs once more with short
-sideways moves. Each step is an `execute.servo` event (the estimated position, the fit's
+For the grasps the method leaves without feedback (the non-volar ones): at the via
+pose, above the table and away from the object, the camera's image (the robot filtered
+out) is fitted with the object's model (perception/localise.py); when the fit is
+accepted and the object is more than `tolerance` from where the robot believes it, the
+rest of the path (via, descent, approach) is shifted by the difference and the hand
+moves to the shifted via; this repeats until the estimate moves less than the tolerance
+or `max_steps` is reached. The hand then descends to the pre-approach pose, where the
+loop runs again (the approach shifted, the hand moved to its new start), and once more
+at the standoff, with the hand partly in front of the object, with short sideways
+moves. Each step is an `execute.servo` event (the estimated position, the fit's
 quality, the correction). The volar grasps keep the method's palm-sensor loop as it is.
 """
 
@@ -99,7 +101,7 @@ class _ServoStrategy(_Strategy):
         if self.plan.volar:
             return super().run()
         preshape = self.hand.preshape(self.plan.preshape)
-        self._move_to_pre_approach(preshape.open_q)
+        self._move_to_pre_approach_servoed(preshape.open_q)
         self._servo("pre-approach", self._shift_approach)
         palm_contact = self._approach_non_volar()
         self._servo("standoff", self._shift_at_standoff)
@@ -165,6 +167,36 @@ class _ServoStrategy(_Strategy):
         return cleaned, fit_object(cleaned, self.model, self.T_world_object_believed, table)
 
     # -- the moves ----------------------------------------------------------------------
+
+    def _move_to_pre_approach_servoed(self, open_q) -> None:
+        """The method's move to the pre-approach pose with a look from the via first:
+        a descent planned for the believed position can knock over an object 5 cm away
+        from it, so the via, the descent and the approach move by the correction seen
+        from the via before the hand goes down."""
+        self.world.hand.set_joint_targets(open_q)
+        self.emit(events.EXECUTE_PRESHAPE, preshape=self.plan.preshape)
+        duration = self.motion.move_palm_to(self.path.T_world_palm_via)
+        self._servo("via", self._shift_via)
+        descent = self.path.descent
+        if descent is not None:
+            duration += self.motion.move_palm_linear(
+                descent.direction, descent.distance, descent.speed, stop_on_contact=False
+            ).duration
+        self.emit(
+            events.EXECUTE_PRE_APPROACH,
+            duration=duration,
+            T_world_palm=self.world.hand.T_world_palm(),
+        )
+
+    def _shift_via(self, shift: NDArray[np.float64]) -> bool:
+        """Shift the via, and the path after it, by `shift` [m] and go to the new via."""
+        self._T_goal = _moved(self.T_goal, shift)
+        self._T_via = _moved(self._T_via_now(), shift)
+        self.motion.move_palm_to(self._T_via)
+        return True
+
+    def _T_via_now(self) -> NDArray[np.float64]:
+        return getattr(self, "_T_via", self.path.T_world_palm_via)
 
     @property
     def T_goal(self) -> NDArray[np.float64]:
