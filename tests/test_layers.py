@@ -33,7 +33,7 @@ FLOORS = {
         "strategy", "testing", "checks", "pictures", "snapshots", "vision", "render",
     ),
     "runs": ("run_request", "run_result", "scoring", "runner", "experiments"),
-    "CLI": ("cli", "commands"),
+    "CLI": ("cli", "commands", "interrupts"),
 }  # fmt: skip
 RANK = {part: rank for rank, parts in enumerate(FLOORS.values()) for part in parts}
 FORBIDDEN = ("sapien", "rerun")  # plugins only
