@@ -225,7 +225,7 @@ EXECUTE_SERVO = EventKind(
     "execute.servo",
     "The servo strategy measured the object with the depth camera and corrected the hand.",
     (
-        PayloadField("stage", '"via", "pre-approach" or "standoff"'),
+        PayloadField("stage", '"start", "via", "pre-approach" or "standoff"'),
         PayloadField("step", "1 for the first measurement of the stage, then 2, ..."),
         PayloadField(
             "fit",
@@ -239,7 +239,7 @@ EXECUTE_DEPTH_IMAGE = EventKind(
     "execute.depth_image",
     "The depth camera's image behind an execute.servo event (the robot filtered out).",
     (
-        PayloadField("stage", '"via", "pre-approach" or "standoff"'),
+        PayloadField("stage", '"start", "via", "pre-approach" or "standoff"'),
         PayloadField("step", "the execute.servo step it was measured for"),
         PayloadField("depth_m", "H x W depth along the optical axis [m], NaN: no return"),
         PayloadField("intrinsics", "fx, fy, cx, cy [px], width, height [px]"),

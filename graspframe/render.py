@@ -198,10 +198,13 @@ class Renderer:
         alpha = small[..., 3] / 255.0
         return bgr, alpha.astype(np.float32, copy=False)
 
-    def depth(self, camera: Camera, positions: NDArray[np.float32]) -> NDArray[np.float32]:
+    def depth(self, intrinsics, positions: NDArray[np.float32]) -> NDArray[np.float32]:
         """The distance along the optical axis [m] (the camera frame's z) of the nearest
         triangle at each pixel centre, H x W, +inf where no triangle covers it; triangles
-        given in the camera frame [m]. One sample per pixel, as a depth sensor measures."""
+        given in the camera frame [m]. One sample per pixel, as a depth sensor measures.
+        `intrinsics`: a Camera, or any pinhole with its fields (hal's Intrinsics)."""
+        c = intrinsics
+        camera = Camera(c.width, c.height, c.fx, c.fy, c.cx, c.cy)
         n = len(positions)
         if n > self._capacity:
             raise RenderError(f"{n // 3} triangles exceed the renderer's {self._capacity // 3}")

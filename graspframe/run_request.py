@@ -24,7 +24,7 @@ from graspframe.defaults import (
     STRATEGY_SERVO,
     TABLE_HEIGHT,
 )
-from graspframe.errors import InputError
+from graspframe.errors import InputError, UnknownNameError
 from graspframe.grasps import HUMAN_HAND, HumanGrasp
 from graspframe.hal.depth_camera import DepthCamera
 from graspframe.hal.descriptions import ArmDescription, HandDescription
@@ -182,9 +182,7 @@ def resolve(request: RunRequest, registry: Registry) -> RunInputs:
         )
     camera_cls = None
     if request.strategy not in STRATEGIES:
-        raise InputError(
-            f"unknown strategy {request.strategy!r}; strategies: {', '.join(STRATEGIES)}"
-        )
+        raise UnknownNameError("strategy", request.strategy, STRATEGIES)
     if request.strategy == STRATEGY_SERVO:
         camera_cls = registry.get_camera(request.camera)
     if not (np.isfinite(request.camera_noise) and 0.0 <= request.camera_noise <= MAX_CAMERA_NOISE):

@@ -318,7 +318,7 @@ def _policy(
         inputs.obj,
         config,
         inputs.camera_cls,
-        head_camera(config.T_world_arm_base, T_world_object_est[:3, 3]),
+        head_camera(T_world_object_est[:3, 3]),
         T_world_object_est,
         seed=config.seed,
         noise_scale=inputs.camera_noise,

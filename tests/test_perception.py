@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from graspframe_depth_sim.camera import ideal_depth
 
-from graspframe.hal.depth_camera import DepthImage
+from graspframe.hal.depth_camera import DepthImage, Intrinsics
 from graspframe.hal.objects import ObjectDescription
 from graspframe.perception.depth_noise import BASELINE, DISPARITY_STEP_PX, FOCAL_PX, DepthNoise
 from graspframe.perception.localise import (
@@ -19,9 +19,8 @@ from graspframe.perception.localise import (
 )
 from graspframe.pictures.render3d import Placed, look_at
 from graspframe.pictures.robot_scene import object_soup, table_soup
-from graspframe.render import Camera
 
-CAMERA = Camera(320, 240, 290.0, 290.0, 160.0, 120.0)
+CAMERA = Intrinsics(320, 240, 290.0, 290.0, 160.0, 120.0)
 CAN = ObjectDescription("can", "cylinder", {"radius": 0.033, "length": 0.12}, mass=0.3)
 EYE = np.array([0.15, -0.45, 0.8])  # [m] a head camera beside the arm's base
 

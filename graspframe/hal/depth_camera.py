@@ -14,15 +14,26 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, ClassVar
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.hal.drivers import World, WorldConfig
 
-if TYPE_CHECKING:  # the renderer (OpenCV, OpenGL) loads with the first camera that renders
-    from graspframe.render import Camera
+
+@dataclass(frozen=True)
+class Intrinsics:
+    """Pinhole intrinsics: the image's width and height [px], focal lengths fx, fy and
+    principal point cx, cy [px] (pixel (column, row) covers [column, column + 1) x
+    [row, row + 1); its centre is at + 0.5)."""
+
+    width: int
+    height: int
+    fx: float
+    fy: float
+    cx: float
+    cy: float
 
 
 @dataclass(frozen=True)
@@ -31,7 +42,7 @@ class CameraMount:
     with `flange_frame` set, `T_flange_camera` on that link of the robot (a wrist
     camera); `intrinsics`: pixels and focal lengths."""
 
-    intrinsics: Camera
+    intrinsics: Intrinsics
     T_world_camera: NDArray[np.float64] | None = None
     flange_frame: str | None = None
     T_flange_camera: NDArray[np.float64] | None = None
@@ -43,7 +54,7 @@ class DepthImage:
     camera's intrinsics and its pose in the world when the image was taken."""
 
     depth_m: NDArray[np.float32]
-    intrinsics: Camera
+    intrinsics: Intrinsics
     T_world_camera: NDArray[np.float64]
 
     def points_camera(self) -> NDArray[np.float64]:

@@ -38,7 +38,8 @@ def _title(record: dict, fit: ObjectFit) -> str:
     head = f"{record['stage']}, step {record['step']}"
     if not fit.accepted:
         return f"{head}: fit refused\n{fit.reason}"
-    action = f"hand moved {moved:.1f} mm" if moved > 0 else "within tolerance: no move"
+    what = "path shifted" if record["stage"] == "start" else "hand moved"  # start: no move yet
+    action = f"{what} {moved:.1f} mm" if moved > 0 else "within tolerance: no move"
     quality = (
         f"{fit.points} points, {100 * fit.inlier_fraction:.0f} % on the model, "
         f"rms {fit.rms_mm:.1f} mm"

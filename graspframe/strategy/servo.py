@@ -1,17 +1,17 @@
 """The servo strategy: the method's strategy (executor.py) with the object's position
 measured by a depth camera and the hand moved by the correction before it closes.
 
-For the grasps the method leaves without feedback (the non-volar ones): at the via
-pose, above the table and away from the object, the camera's image (the robot filtered
-out) is fitted with the object's model (perception/localise.py); when the fit is
-accepted and the object is more than `tolerance` from where the robot believes it, the
-rest of the path (via, descent, approach) is shifted by the difference and the hand
-moves to the shifted via; this repeats until the estimate moves less than the tolerance
-or `max_steps` is reached. The hand then descends to the pre-approach pose, where the
-loop runs again (the approach shifted, the hand moved to its new start), and once more
-at the standoff, with the hand partly in front of the object, with short sideways
-moves. Each step is an `execute.servo` event (the estimated position, the fit's
-quality, the correction). The volar grasps keep the method's palm-sensor loop as it is.
+For the grasps the method leaves without feedback (the non-volar ones): before the arm
+moves, the camera's image (the robot filtered out) is fitted with the object's model
+(perception/localise.py); when the fit is accepted and the object is more than
+`tolerance` from where the robot believes it, the whole path (via, descent, approach) is
+shifted by the difference; this repeats until the estimate moves less than the tolerance
+or `max_steps` is reached. The loop runs again at the via (the rest of the path shifted,
+the hand moved to the new via), at the pre-approach pose (the approach shifted, the hand
+moved to its new start) and at the standoff, with the hand partly in front of the object,
+with short sideways moves. Each step is an `execute.servo` event (the estimated position,
+the fit's quality, the correction). The volar grasps keep the method's palm-sensor loop
+as it is.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe import events
-from graspframe.hal.depth_camera import CameraMount, DepthCamera, DepthImage
+from graspframe.hal.depth_camera import CameraMount, DepthCamera, DepthImage, Intrinsics
 from graspframe.hal.descriptions import HandDescription, joints_by_name
 from graspframe.hal.drivers import World, WorldConfig
 from graspframe.hal.objects import ObjectDescription
@@ -30,7 +30,6 @@ from graspframe.motion.arm_motion import ArmMotion
 from graspframe.perception.localise import ObjectFit, ObjectModel, fit_object
 from graspframe.perception.self_filter import RobotSelfFilter
 from graspframe.pictures.render3d import look_at
-from graspframe.render import Camera
 from graspframe.strategy.execution import ExecutionLog, Grip
 from graspframe.strategy.executor import ExecutorParams, _moved, _Strategy
 from graspframe.strategy.planner import GraspPlan
@@ -39,16 +38,17 @@ TOLERANCE = 0.003  # [m] an estimate this close to the believed position is left
 MAX_STEPS = 4  # corrections at the pre-approach pose, and again at the standoff
 MAX_STANDOFF_SHIFT = 0.02  # [m] a larger correction at the standoff is not made there
 # The head camera: 320 x 240 px at 290 px focal length (the QVGA mode of the Kinect class,
-# 580 px at 640 x 480), above and beside the arm's base, looking at the believed object.
-HEAD_CAMERA = Camera(320, 240, 290.0, 290.0, 160.0, 120.0)
-P_ARM_BASE_HEAD = (0.15, -0.45, 0.8)  # [m] the head camera in the arm base's frame
+# 580 px at 640 x 480), in the world above and beside the arm's base (at the world origin
+# on the arm mount; the hand alone works in the same scene), looking at the believed
+# object.
+HEAD_CAMERA = Intrinsics(320, 240, 290.0, 290.0, 160.0, 120.0)
+P_WORLD_HEAD = (0.15, -0.45, 0.8)  # [m]
 
 
-def head_camera(T_world_arm_base, p_world_target) -> CameraMount:
+def head_camera(p_world_target) -> CameraMount:
     """The head camera looking at `p_world_target` [m] (world up: +z)."""
-    T_base = np.asarray(T_world_arm_base, dtype=float)
-    eye = T_base[:3, :3] @ np.array(P_ARM_BASE_HEAD) + T_base[:3, 3]
-    return CameraMount(HEAD_CAMERA, T_world_camera=look_at(eye, p_world_target, (0.0, 0.0, 1.0)))
+    T_world_camera = look_at(P_WORLD_HEAD, p_world_target, (0.0, 0.0, 1.0))
+    return CameraMount(HEAD_CAMERA, T_world_camera=T_world_camera)
 
 
 @dataclass(frozen=True)
@@ -88,8 +88,9 @@ class ServoStrategy:
 class _ServoStrategy(_Strategy):
     owner: ServoStrategy | None = None
 
-    def __post_init__(self) -> None:
-        super().__post_init__()
+    def _start_perception(self) -> None:
+        """The camera, the robot's self filter and the object's model (the non-volar
+        grasps only: the volar ones keep the method's palm-sensor loop)."""
         owner = self.owner
         assert owner is not None and owner.config.robot is not None
         self.camera = owner.camera(owner.config, owner.mount, owner.seed, owner.noise_scale)
@@ -100,6 +101,7 @@ class _ServoStrategy(_Strategy):
     def run(self) -> Grip:
         if self.plan.volar:
             return super().run()
+        self._start_perception()
         preshape = self.hand.preshape(self.plan.preshape)
         self._move_to_pre_approach_servoed(preshape.open_q)
         self._servo("pre-approach", self._shift_approach)
@@ -173,9 +175,10 @@ class _ServoStrategy(_Strategy):
         a descent planned for the believed position can knock over an object 5 cm away
         from it, so the via, the descent and the approach move by the correction seen
         from the via before the hand goes down."""
+        self._servo("start", self._shift_plan)
         self.world.hand.set_joint_targets(open_q)
         self.emit(events.EXECUTE_PRESHAPE, preshape=self.plan.preshape)
-        duration = self.motion.move_palm_to(self.path.T_world_palm_via)
+        duration = self.motion.move_palm_to(self._T_via_now())
         self._servo("via", self._shift_via)
         descent = self.path.descent
         if descent is not None:
@@ -187,6 +190,12 @@ class _ServoStrategy(_Strategy):
             duration=duration,
             T_world_palm=self.world.hand.T_world_palm(),
         )
+
+    def _shift_plan(self, shift: NDArray[np.float64]) -> bool:
+        """Shift the whole path by `shift` [m] before the arm moves."""
+        self._T_goal = _moved(self.T_goal, shift)
+        self._T_via = _moved(self._T_via_now(), shift)
+        return True
 
     def _shift_via(self, shift: NDArray[np.float64]) -> bool:
         """Shift the via, and the path after it, by `shift` [m] and go to the new via."""
