@@ -171,24 +171,12 @@ class _ServoStrategy(_Strategy):
     # -- the moves ----------------------------------------------------------------------
 
     def _move_to_pre_approach_servoed(self, open_q) -> None:
-        """The method's move to the pre-approach pose with a look from the via first:
-        a descent planned for the believed position can knock over an object 5 cm away
-        from it, so the via, the descent and the approach move by the correction seen
-        from the via before the hand goes down."""
+        """The method's move to the pre-approach pose with two looks: before the arm
+        moves (its way to the via can sweep through an object 5 cm from the belief) and
+        at the via, before the descent."""
         self._servo("start", self._shift_plan)
-        self.world.hand.set_joint_targets(open_q)
-        self.emit(events.EXECUTE_PRESHAPE, preshape=self.plan.preshape)
-        duration = self.motion.move_palm_to(self._T_via_now())
-        self._servo("via", self._shift_via)
-        descent = self.path.descent
-        if descent is not None:
-            duration += self.motion.move_palm_linear(
-                descent.direction, descent.distance, descent.speed, stop_on_contact=False
-            ).duration
-        self.emit(
-            events.EXECUTE_PRE_APPROACH,
-            duration=duration,
-            T_world_palm=self.world.hand.T_world_palm(),
+        self._move_to_pre_approach(
+            open_q, self._T_via_now(), at_via=lambda: self._servo("via", self._shift_via)
         )
 
     def _shift_plan(self, shift: NDArray[np.float64]) -> bool:
