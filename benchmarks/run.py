@@ -5,7 +5,8 @@
 Runs benchmarks/startup.py (`graspframe --help`, a mistyped name, the main job end to
 end), benchmarks/main_job_parts.py (the main job by part, every import of it),
 benchmarks/recording.py (the recording's cost as a ratio), benchmarks/interrupt.py (from
-Ctrl-C to the exit of each long command), benchmarks/db_build.py (the
+Ctrl-C to the exit of each long command), benchmarks/servo.py (what the servo strategy
+adds to a trial), benchmarks/db_build.py (the
 view database at the shipped settings, views per second) and benchmarks/sweep.py (the
 full A + B sweep with 1 and 2 workers, trials per second and the speed-up), each in a
 fresh process, and prints their figures as they come. --quick runs the sweep for one
@@ -33,6 +34,7 @@ def figures(quick: bool) -> list[list[str]]:
         ["main_job_parts.py", "--repeats", "3"],
         ["recording.py", "--repeats", "3"],
         ["interrupt.py", "--repeats", "3" if not quick else "1"],
+        ["servo.py", "--repeats", "3" if not quick else "1"],
         ["db_build.py", *views],
         ["sweep.py", "--repeats", "1", *sweep],
     ]

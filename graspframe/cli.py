@@ -29,6 +29,7 @@ from graspframe.defaults import (
     DISTURBANCE_FRACTION,
     LIFT_HEIGHT,
     MOUNT_ARM,
+    STRATEGY_METHOD,
 )
 from graspframe.errors import GraspframeError, InputError
 from graspframe.experiments.trials import TRIAL_TIME_LIMIT
@@ -139,6 +140,10 @@ def _parse_error_mm(text: str) -> tuple[float, float]:
     return dx_mm / 1000.0, dy_mm / 1000.0
 
 
+STRATEGY_HELP = "method (the published strategy) or servo (corrected by a depth camera)."
+NOISE_HELP = "Multiple of the servo camera's noise model (2: doubled)."
+
+
 @app.command()
 def run(
     hand: Annotated[
@@ -185,6 +190,8 @@ def run(
         float,
         typer.Option(help="Push of the held test, a fraction of the object's weight."),
     ] = DISTURBANCE_FRACTION,
+    strategy: Annotated[str, typer.Option(help=STRATEGY_HELP)] = STRATEGY_METHOD,
+    camera_noise: Annotated[float, typer.Option(help=NOISE_HELP)] = 1.0,
 ) -> None:
     """Image of a human grasp -> robot grasp on the arm in simulation, scored.
 
@@ -212,6 +219,8 @@ def run(
         mount=mount,
         lift_height=lift_height_mm / 1000.0,
         disturbance_fraction=disturbance_fraction,
+        strategy=strategy,
+        camera_noise=camera_noise,
     )
     registry = default_registry()
     # Every name and file is checked before the simulation's modules are imported (a
@@ -301,6 +310,8 @@ def evaluate(
             "'ycb_005_tomato_soup_can,ycb_025_mug'; experiment A unless --directions."
         ),
     ] = "",
+    strategy: Annotated[str, typer.Option(help="Comma-separated: " + STRATEGY_HELP)] = "method",
+    camera_noise: Annotated[float, typer.Option(help=NOISE_HELP)] = 1.0,
 ) -> None:
     """Experiments A (perfect perception) and B (object position error) for the hands."""
     from graspframe.commands.evaluate import run_evaluation, sweep_config
@@ -321,6 +332,8 @@ def evaluate(
         mount=mount,
         sizes=sizes,
         objects=objects,
+        strategy=strategy,
+        camera_noise=camera_noise,
     )
     run_evaluation(config, console, err_console)
 

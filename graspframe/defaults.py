@@ -22,3 +22,8 @@ TABLE_HALF_SIZE = (0.30, 0.40, 0.02)  # [m] a 60 x 80 cm table top, 4 cm thick
 # push every grasp, the robot's and the human reference's, is judged by.
 LIFT_HEIGHT = 0.05  # [m]
 DISTURBANCE_FRACTION = 0.5  # of the object's weight
+STRATEGY_METHOD = "method"  # the published strategy (docs/method.md)
+STRATEGY_SERVO = "servo"  # the method with the depth camera's corrections (docs/perception.md)
+STRATEGIES = (STRATEGY_METHOD, STRATEGY_SERVO)
+DEFAULT_CAMERA = "simulated"  # the depth camera of the servo strategy
+MAX_CAMERA_NOISE = 10.0  # the largest multiple of the camera's noise model accepted

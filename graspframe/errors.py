@@ -21,7 +21,8 @@ class UnknownNameError(GraspframeError, KeyError):
         self.name = name
         self.known = sorted(known)
         listing = ", ".join(self.known) if self.known else "none are registered"
-        super().__init__(f"unknown {kind} {name!r}; known {kind}s: {listing}")
+        kinds = f"{kind[:-1]}ies" if kind.endswith("y") else f"{kind}s"  # strategy: strategies
+        super().__init__(f"unknown {kind} {name!r}; known {kinds}: {listing}")
 
     def __str__(self) -> str:  # KeyError would otherwise quote the whole message
         return self.args[0]

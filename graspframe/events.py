@@ -221,6 +221,33 @@ EXECUTE_CORRECTIONS_EXHAUSTED = EventKind(
     "The volar goal corrections ran out; the hand closes where it stands.",
     (PayloadField("corrections", "goal corrections made"),),
 )
+EXECUTE_SERVO = EventKind(
+    "execute.servo",
+    "The servo strategy measured the object with the depth camera and corrected the hand.",
+    (
+        PayloadField("stage", '"start", "via", "pre-approach" or "standoff"'),
+        PayloadField("step", "1 for the first measurement of the stage, then 2, ..."),
+        PayloadField(
+            "fit",
+            "the model fit: p_world_object [m], shift_mm from the believed position, "
+            "points, inlier_fraction, rms_mm, accepted, reason (why not)",
+        ),
+        PayloadField("correction_mm", "[mm] the palm's move (x, y), world frame; 0 for none"),
+    ),
+)
+EXECUTE_DEPTH_IMAGE = EventKind(
+    "execute.depth_image",
+    "The depth camera's image behind an execute.servo event (the robot filtered out).",
+    (
+        PayloadField("stage", '"start", "via", "pre-approach" or "standoff"'),
+        PayloadField("step", "the execute.servo step it was measured for"),
+        PayloadField("depth_m", "H x W depth along the optical axis [m], NaN: no return"),
+        PayloadField("intrinsics", "fx, fy, cx, cy [px], width, height [px]"),
+        PayloadField("T_world_camera", "4x4 camera pose (OpenCV axes: z along the view)"),
+        PayloadField("p_world_fitted", "[m] the fitted object position"),
+    ),
+    observer_only=True,
+)
 EXECUTE_CORRECTION = EventKind(
     "execute.correction",
     "The volar goal moved: towards a finger contact, or to centre the palm contact.",
@@ -337,6 +364,8 @@ EVENT_KINDS: tuple[EventKind, ...] = (
     EXECUTE_FIRST_CONTACT,
     EXECUTE_CORRECTIONS_EXHAUSTED,
     EXECUTE_CORRECTION,
+    EXECUTE_DEPTH_IMAGE,
+    EXECUTE_SERVO,
     EXECUTE_BACK_OFF,
     EXECUTE_CLOSED,
     EXECUTE_HOLD,

@@ -31,6 +31,7 @@ from graspframe.errors import OutputError, PluginError, UnknownNameError
 from graspframe.events import RunEvent, RunInfo
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.classifier import Classifier
+from graspframe.hal.depth_camera import DepthCamera
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.drivers import Backend
 from graspframe.hal.objects import ObjectDescription
@@ -89,6 +90,12 @@ KINDS: dict[str, _Kind] = {
             "graspframe_register_objects",
             lambda x: isinstance(x, ObjectDescription),
             "an ObjectDescription",
+        ),
+        _Kind(
+            "camera",
+            "graspframe_register_cameras",
+            lambda x: isinstance(x, type) and issubclass(x, DepthCamera),
+            "a DepthCamera subclass",
         ),
         _Kind(
             "viewer",
@@ -307,6 +314,9 @@ class Registry:
 
     def get_object(self, name: str) -> ObjectDescription:
         return self.entry("object", name).item
+
+    def get_camera(self, name: str) -> type[DepthCamera]:
+        return self.entry("camera", name).item
 
     def default_object_for(self, grasp: HumanGrasp) -> ObjectDescription:
         """The registered object that is the default for a human grasp."""

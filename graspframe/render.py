@@ -149,6 +149,17 @@ class Renderer:
         self._fbo_size = (width, height)
         return self._fbo
 
+    def _draw(self, camera: Camera, n: int) -> moderngl.Framebuffer:
+        """Rasterise the first `n` vertices of the buffer into a cleared framebuffer of
+        the camera's size, with depth testing (both faces drawn)."""
+        fbo = self._framebuffer(camera.width, camera.height)
+        fbo.use()
+        fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        self.ctx.enable(self.ctx.DEPTH_TEST)
+        self.ctx.disable(self.ctx.CULL_FACE)
+        self.vao.render(vertices=n)
+        return fbo
+
     def _uniform(self, name: str) -> moderngl.Uniform:
         """A uniform of the shader program (the shaders above declare each one)."""
         return cast("moderngl.Uniform", self.program[name])
@@ -185,18 +196,37 @@ class Renderer:
         self._uniform("light_colour").value = tuple(lighting.light_colour)
         self._uniform("ambient").value = float(lighting.ambient)
         self._uniform("specular").value = float(lighting.specular)
-        fbo = self._framebuffer(big.width, big.height)
-        fbo.use()
-        fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-        self.ctx.enable(self.ctx.DEPTH_TEST)
-        self.ctx.disable(self.ctx.CULL_FACE)
-        self.vao.render(vertices=n)
+        fbo = self._draw(big, n)
         raw = np.frombuffer(fbo.read(components=4), dtype=np.uint8)
         rgba = raw.reshape(big.height, big.width, 4).astype(np.float32)
         small = cv2.resize(rgba, (camera.width, camera.height), interpolation=cv2.INTER_AREA)
         bgr = np.clip(small[..., 2::-1] + 0.5, 0, 255).astype(np.uint8)
         alpha = small[..., 3] / 255.0
         return bgr, alpha.astype(np.float32, copy=False)
+
+    def depth(self, intrinsics, positions: NDArray[np.float32]) -> NDArray[np.float32]:
+        """The distance along the optical axis [m] (the camera frame's z) of the nearest
+        triangle at each pixel centre, H x W, +inf where no triangle covers it; triangles
+        given in the camera frame [m]. One sample per pixel, as a depth sensor measures.
+        `intrinsics`: a Camera, or any pinhole with its fields (hal's Intrinsics)."""
+        c = intrinsics
+        camera = Camera(c.width, c.height, c.fx, c.fy, c.cx, c.cy)
+        n = len(positions)
+        if n > self._capacity:
+            raise RenderError(f"{n // 3} triangles exceed the renderer's {self._capacity // 3}")
+        data = np.zeros((n, 9), dtype=np.float32)
+        data[:, :3] = positions
+        data[:, 5] = 1.0  # any normal: only the depth buffer is read
+        self.vbo.write(data.tobytes())
+        self._uniform("projection").write(camera.projection().T.copy().tobytes())
+        fbo = self._draw(camera, n)
+        raw = np.frombuffer(fbo.read(components=1, attachment=-1, dtype="f4"), dtype=np.float32)
+        window = raw.reshape(camera.height, camera.width).astype(np.float64)
+        # Window depth [0, 1] -> NDC [-1, 1] -> the camera's z, with projection()'s planes.
+        z_ndc = 2.0 * window - 1.0
+        z = 2.0 * FAR * NEAR / ((FAR + NEAR) - z_ndc * (FAR - NEAR))
+        z[window >= 1.0] = np.inf
+        return z.astype(np.float32)
 
     def release(self) -> None:
         self.ctx.release()

@@ -12,15 +12,21 @@ import numpy as np
 from graspframe.defaults import (
     DEFAULT_ARM,
     DEFAULT_BACKEND,
+    DEFAULT_CAMERA,
     DEFAULT_CLASSIFIER,
     DISTURBANCE_FRACTION,
     LIFT_HEIGHT,
+    MAX_CAMERA_NOISE,
     MOUNT_ARM,
     MOUNTS,
+    STRATEGIES,
+    STRATEGY_METHOD,
+    STRATEGY_SERVO,
     TABLE_HEIGHT,
 )
-from graspframe.errors import InputError
+from graspframe.errors import InputError, UnknownNameError
 from graspframe.grasps import HUMAN_HAND, HumanGrasp
+from graspframe.hal.depth_camera import DepthCamera
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.drivers import Backend
 from graspframe.hal.objects import ObjectDescription
@@ -48,6 +54,9 @@ class RunRequest:
         simulated human reference. record: stream a rerun recording of the run.
     mount: "arm" (the hand on `arm`) or "floating" (the hand alone on a free 6-DOF
         base, as in the method's grasp simulator).
+    strategy: "method" (the published strategy) or "servo" (its non-volar grasps
+        corrected by the depth camera `camera`, its noise model multiplied by
+        `camera_noise`).
     """
 
     hand: str
@@ -66,6 +75,9 @@ class RunRequest:
     mount: str = MOUNT_ARM
     lift_height: float = LIFT_HEIGHT
     disturbance_fraction: float = DISTURBANCE_FRACTION
+    strategy: str = STRATEGY_METHOD
+    camera: str = DEFAULT_CAMERA
+    camera_noise: float = 1.0
 
     def command(self) -> str:
         """The command line that repeats this run."""
@@ -88,6 +100,10 @@ class RunRequest:
             parts += ["--lift-height-mm", f"{1000.0 * self.lift_height:g}"]
         if self.disturbance_fraction != DISTURBANCE_FRACTION:
             parts += ["--disturbance-fraction", f"{self.disturbance_fraction:g}"]
+        if self.strategy != STRATEGY_METHOD:
+            parts += ["--strategy", self.strategy]
+        if self.camera_noise != 1.0:
+            parts += ["--camera-noise", f"{self.camera_noise:g}"]
         return " ".join(parts)
 
     def held_test(self) -> HeldTest:
@@ -129,6 +145,8 @@ class RunInputs:
     reference_file: HumanReference | None
     scene: Scene | None
     image: np.ndarray | None
+    camera_cls: type[DepthCamera] | None = None  # the servo strategy's camera
+    camera_noise: float = 1.0  # multiplies the simulated camera's noise model
 
 
 def resolve(request: RunRequest, registry: Registry) -> RunInputs:
@@ -162,6 +180,16 @@ def resolve(request: RunRequest, registry: Registry) -> RunInputs:
         raise InputError(
             f"object error {request.object_error} m is not finite or above {MAX_OBJECT_ERROR} m"
         )
+    camera_cls = None
+    if request.strategy not in STRATEGIES:
+        raise UnknownNameError("strategy", request.strategy, STRATEGIES)
+    if request.strategy == STRATEGY_SERVO:
+        camera_cls = registry.get_camera(request.camera)
+    if not (np.isfinite(request.camera_noise) and 0.0 <= request.camera_noise <= MAX_CAMERA_NOISE):
+        raise InputError(
+            f"camera noise {request.camera_noise:g} is outside [0, {MAX_CAMERA_NOISE:g}] "
+            "(a multiple of the camera's noise model)"
+        )
     reference_file = None
     if request.human_contacts:
         from graspframe.strategy.human_reference import load_reference_file
@@ -180,4 +208,6 @@ def resolve(request: RunRequest, registry: Registry) -> RunInputs:
         reference_file,
         scene,
         image,
+        camera_cls,
+        request.camera_noise,
     )

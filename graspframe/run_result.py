@@ -175,6 +175,14 @@ def outcome_json(outcome: GraspOutcome) -> dict[str, Any]:
 
 
 @dataclass(frozen=True)
+class ServoReport:
+    """The servo strategy's measurements (each as its execute.servo event) and servo.png."""
+
+    steps: tuple[dict, ...]
+    picture: Path
+
+
+@dataclass(frozen=True)
 class RunResult:
     """One run: what was asked, how it ended, what each stage produced (None for the
     stages it did not reach) and where its files are.
@@ -195,6 +203,7 @@ class RunResult:
     snapshots: Path | None = None
     score: Score | None = None
     human_reference_picture: Path | None = None
+    servo: ServoReport | None = None
     error: str | None = None
     traceback: str | None = None
     wall_time: float | None = None
@@ -230,6 +239,8 @@ class RunResult:
             data["score"] = self.score.to_json()
         if self.human_reference_picture is not None:
             data["human_reference_picture"] = str(self.human_reference_picture)
+        if self.servo is not None:
+            data["servo"] = {"steps": list(self.servo.steps), "picture": str(self.servo.picture)}
         if self.error is not None:
             data["error"] = self.error
             data["traceback"] = self.traceback

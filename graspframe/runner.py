@@ -48,14 +48,16 @@ from graspframe.run_result import (
     HumanGraspInput,
     RunResult,
     Score,
+    ServoReport,
     plan_json,
 )
 from graspframe.scoring import score_grasp
 from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
 from graspframe.strategy.arm_path import CheckedPlan, choose_plan, floating_plan
-from graspframe.strategy.execution import Execution, execute
+from graspframe.strategy.execution import Execution, GraspPolicy, execute
 from graspframe.strategy.executor import ExecutorParams, MethodStrategy
 from graspframe.strategy.held_test import object_probe
+from graspframe.strategy.planner import GraspPlan
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 
@@ -94,6 +96,7 @@ class _Stages:
     snapshots: Path | None = None
     score: Score | None = None
     human_reference_picture: Path | None = None
+    servo: ServoReport | None = None
 
 
 def run_grasp(
@@ -273,9 +276,11 @@ def _run_stages(
         table_height=TABLE_HEIGHT,
         seed=request.seed,
     )
+    policy = _policy(inputs, checked.plan, config, T_world_object_est)
     stages.execution = execution = _execute_in_world(
-        inputs, checked, config, T_world_object_est, recorder, progress
+        inputs, checked, config, policy, T_world_object_est, recorder, progress
     )
+    stages.servo = _servo_report(policy, recorder.run.out_dir, inputs, checked)
     stages.snapshots = _draw_snapshots(
         recorder.run.out_dir, checked, config, execution, human.grasp
     )
@@ -294,16 +299,43 @@ def _run_stages(
     )
 
 
+def _policy(
+    inputs: RunInputs,
+    plan: GraspPlan,
+    config: WorldConfig,
+    T_world_object_est: NDArray[np.float64],
+) -> GraspPolicy:
+    """The run's strategy: the method's, or the servo strategy when the request names a
+    camera for it (`RunInputs.camera_cls`), its head camera looking at the believed
+    object position."""
+    if inputs.camera_cls is None:
+        return MethodStrategy(plan, inputs.hand, inputs.obj, ExecutorParams())
+    from graspframe.strategy.servo import ServoStrategy, head_camera
+
+    return ServoStrategy(
+        plan,
+        inputs.hand,
+        inputs.obj,
+        config,
+        inputs.camera_cls,
+        head_camera(T_world_object_est[:3, 3]),
+        T_world_object_est,
+        seed=config.seed,
+        noise_scale=inputs.camera_noise,
+    )
+
+
 def _execute_in_world(
     inputs: RunInputs,
     checked: CheckedPlan,
     config: WorldConfig,
+    policy: GraspPolicy,
     T_world_object_est: NDArray[np.float64],
     recorder: _Recorder,
     progress: Progress,
 ) -> Execution:
-    """Build the world and execute the plan in it with the method's strategy, judged by
-    the run's held test."""
+    """Build the world and execute the plan in it with `policy`, judged by the run's held
+    test."""
     plan = checked.plan
     progress("building the world")
     worlds: list[World] = []
@@ -344,7 +376,6 @@ def _execute_in_world(
             ),
         )
 
-    policy = MethodStrategy(plan, inputs.hand, inputs.obj, ExecutorParams())
     return execute(
         inputs.backend_cls(),
         config,
@@ -354,6 +385,27 @@ def _execute_in_world(
         on_world=on_world,
         on_cycle=on_cycle,
     )
+
+
+def _servo_report(
+    policy: GraspPolicy, run_dir: str, inputs: RunInputs, checked: CheckedPlan
+) -> ServoReport | None:
+    """The servo strategy's measurements and their picture, servo.png (None for the
+    method's strategy)."""
+    from graspframe.strategy.servo import ServoStrategy
+
+    if not isinstance(policy, ServoStrategy) or not policy.images:
+        return None
+    from graspframe.perception.localise import ObjectModel
+    from graspframe.perception.servo_picture import draw_servo_picture
+
+    title = (
+        f"{inputs.hand.name}: {checked.plan.preshape} on {inputs.obj.name}, "
+        "the servo strategy's depth camera"
+    )
+    model = ObjectModel(inputs.obj, policy.seed)
+    picture = draw_servo_picture(policy.images, model, title, Path(run_dir) / "servo.png")
+    return ServoReport(tuple(policy.steps), picture)
 
 
 def _draw_snapshots(

@@ -37,6 +37,15 @@ def test_no_arguments_shows_help(capsys):
         (["evaluate", "--mount", "wall"], "unknown mount 'wall'; known mounts: arm, floating"),
         (["evaluate", "--sizes", "big"], "--sizes must be whole percentages"),
         (["evaluate", "--sizes", "100"], "sizes are percentages in 1..999 other than 100"),
+        (
+            ["evaluate", "--strategy", "servoo"],
+            "unknown strategy 'servoo'; known strategies: method",
+        ),
+        (
+            ["run", "--strategy", "servoo"],
+            "unknown strategy 'servoo'; known strategies: method, servo",
+        ),
+        (["run", "--strategy", "servo", "--camera-noise", "-1"], "camera noise -1 is outside"),
     ],
 )
 def test_bad_arguments_give_one_line_and_exit_1(command, message, capsys):

@@ -31,6 +31,7 @@ FLOORS = {
     "motion and metrics": ("motion", "metrics"),
     "algorithms": (
         "strategy", "testing", "checks", "pictures", "snapshots", "vision", "render",
+        "perception",
     ),
     "runs": ("run_request", "run_result", "scoring", "runner", "experiments"),
     "CLI": ("cli", "commands", "interrupts"),

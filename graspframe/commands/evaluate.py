@@ -9,7 +9,7 @@ from pathlib import Path
 
 from rich.console import Console
 
-from graspframe.defaults import MOUNTS
+from graspframe.defaults import MOUNTS, STRATEGIES, STRATEGY_METHOD
 from graspframe.errors import InputError, UnknownNameError
 from graspframe.experiments.sweep import SweepConfig
 
@@ -61,6 +61,8 @@ def sweep_config(
     mount: str,
     sizes: str,
     objects: str,
+    strategy: str = STRATEGY_METHOD,
+    camera_noise: float = 1.0,
 ) -> SweepConfig:
     """The sweep the options ask for (their text as given on the command line, rho_mm
     [mm], time_limit [s]); an unknown name or a bad value fails before any trial."""
@@ -93,6 +95,8 @@ def sweep_config(
         sizes=sizes_option(sizes),
         arm=arm,
         objects=object_names,
+        strategies=names_option(strategy, "strategy", list(STRATEGIES)),
+        camera_noise=camera_noise,
     )
 
 

@@ -4,6 +4,7 @@ limit, the score and where the files are."""
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 from rich.console import Console
@@ -101,6 +102,12 @@ def print_run_summary(result: RunResult, console: Console) -> None:
         console.print(f"pictures: {result.snapshots}")
     if result.human_reference_picture is not None:
         console.print(f"human reference: {result.human_reference_picture}")
+    if result.servo is not None:
+        moved_mm = sum(math.hypot(*step["correction_mm"]) for step in result.servo.steps)
+        console.print(
+            f"servo: {len(result.servo.steps)} measurements, the hand moved {moved_mm:.0f} mm "
+            f"in all: {result.servo.picture}"
+        )
     recording = result.artifacts.get("recording")
     if recording:
         console.print(f"recording: {recording}  (graspframe review {recording})")

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from graspframe.defaults import STRATEGY_METHOD
 from graspframe.experiments.trials import swept_object
 from graspframe.files import atomic_output, atomic_write
 
@@ -54,9 +55,19 @@ def size_conditions(rows: list[dict]) -> list[str]:
 OBJECT = "object"  # the column of a sweep over objects, after "grasp"
 
 
+def mount_label(row: dict) -> str:
+    """The trial's mount, with its strategy when it is not the method's ("arm/servo")."""
+    mount, strategy = row.get("mount", "arm"), row.get("strategy", STRATEGY_METHOD)
+    label = mount if strategy == STRATEGY_METHOD else f"{mount}/{strategy}"
+    noise = row.get("camera_noise", 1.0)
+    return label if noise == 1.0 or strategy == STRATEGY_METHOD else f"{label} x{noise:g}"
+
+
 def summarize(rows: list[dict]) -> list[dict]:
     """One summary row per (mount, hand, grasp), in the order the trials were planned;
     in a sweep over objects, per (mount, hand, grasp, object), with an "object" entry.
+    Trials of a strategy other than the method's count under their own mount label,
+    "<mount>/<strategy>" (e.g. "arm/servo"), so the strategies sit side by side.
 
     A_success: held (after the lift and under the disturbance) in experiment A; the two
     parts are reported separately too. B_successes / B_held_after_lift: counts over the
@@ -64,7 +75,7 @@ def summarize(rows: list[dict]) -> list[dict]:
     groups: dict[tuple[str, str, str, str | None], list[dict]] = {}
     for row in rows:
         chosen = swept_object(row["condition"], row.get("object"))
-        key = (row.get("mount", "arm"), row["hand"], row["grasp"], chosen)
+        key = (mount_label(row), row["hand"], row["grasp"], chosen)
         groups.setdefault(key, []).append(row)
     sizes = size_conditions(rows)
     summary = []

@@ -16,10 +16,11 @@ import os
 from collections.abc import Callable, Generator
 from contextlib import closing
 from dataclasses import dataclass
+from itertools import product
 from pathlib import Path
 from typing import Any
 
-from graspframe.defaults import DEFAULT_ARM, MOUNT_ARM, MOUNTS
+from graspframe.defaults import DEFAULT_ARM, MOUNT_ARM, MOUNTS, STRATEGIES, STRATEGY_METHOD
 from graspframe.errors import InputError, OutputError
 from graspframe.experiments.trials import (
     CONDITION_A,
@@ -45,7 +46,8 @@ class SweepConfig:
     catalogue's scaled objects <default object>_<size> (e.g. 75 -> large_cylinder_075);
     objects: object names to run instead of the grasps' default objects, each with the
     grasps documented for it (`ObjectDescription.documented_grasps`; `grasps` must then
-    be empty, and sizes too)."""
+    be empty, and sizes too); strategies: "method" and/or "servo", each running every
+    trial; camera_noise: the multiple of the servo camera's noise model."""
 
     hands: tuple[str, ...]
     grasps: tuple[str, ...]
@@ -62,6 +64,8 @@ class SweepConfig:
     mounts: tuple[str, ...] = (MOUNT_ARM,)
     sizes: tuple[int, ...] = ()
     objects: tuple[str, ...] = ()
+    strategies: tuple[str, ...] = (STRATEGY_METHOD,)
+    camera_noise: float = 1.0
 
     def __post_init__(self) -> None:
         if self.executor not in EXECUTORS:
@@ -77,6 +81,12 @@ class SweepConfig:
             )
         if any(not 0 < size <= 999 or size == 100 for size in self.sizes):
             raise InputError(f"sizes are percentages in 1..999 other than 100, got {self.sizes}")
+        unknown = [s for s in self.strategies if s not in STRATEGIES]
+        if unknown or not self.strategies:
+            raise InputError(
+                f"unknown strategy {unknown[0] if unknown else ''!r}; "
+                f"strategies: {', '.join(STRATEGIES)}"
+            )
         if self.objects and (self.grasps or self.sizes):
             raise InputError(
                 "a sweep over objects runs each object's own grasps at its own size; "
@@ -95,7 +105,7 @@ def plan_trials(config: SweepConfig) -> list[TrialSpec]:
     if config.objects:
         return _object_trials(config, conditions, runs_dir)
     specs = []
-    for mount in config.mounts:
+    for mount, strategy in product(config.mounts, config.strategies):
         for hand in config.hands:
             for grasp in config.grasps:
                 common: dict[str, Any] = dict(
@@ -104,6 +114,8 @@ def plan_trials(config: SweepConfig) -> list[TrialSpec]:
                     arm=config.arm,
                     record=config.record,
                     mount=mount,
+                    strategy=strategy,
+                    camera_noise=config.camera_noise,
                 )
                 for condition, error in conditions:
                     specs.append(TrialSpec(hand, grasp, condition, error, **common))
@@ -155,8 +167,11 @@ def _object_trials(
             record=config.record,
             mount=mount,
             object=name,
+            strategy=strategy,
+            camera_noise=config.camera_noise,
         )
         for mount in config.mounts
+        for strategy in config.strategies
         for hand in config.hands
         for name in config.objects
         for grasp in grasps[name]

@@ -14,7 +14,7 @@ import multiprocessing
 import time
 from dataclasses import asdict, dataclass
 
-from graspframe.defaults import DEFAULT_ARM, MOUNT_ARM
+from graspframe.defaults import DEFAULT_ARM, MOUNT_ARM, STRATEGY_METHOD
 from graspframe.grasps import HumanGrasp
 
 CONDITION_A = "A"
@@ -29,7 +29,8 @@ class TrialSpec:
     position; object: the object's name (None: the grasp's default object; with "A" or
     "B<k>" it is part of the trial id: a sweep over objects); mount: "arm" or
     "floating"; record: write a rerun recording of the trial (off by default: sweeps are
-    for numbers)."""
+    for numbers); strategy: "method" or "servo" (part of the trial id when not the
+    method's, with camera_noise, the multiple of the camera's noise, when not 1)."""
 
     hand: str
     grasp: str
@@ -41,12 +42,18 @@ class TrialSpec:
     record: bool = False
     mount: str = MOUNT_ARM
     object: str | None = None
+    strategy: str = STRATEGY_METHOD
+    camera_noise: float = 1.0
 
     @property
     def trial_id(self) -> str:
         base = f"{self.mount}/{self.hand}/{self.grasp}/{self.condition}"
         chosen = swept_object(self.condition, self.object)
-        return base if chosen is None else f"{base}/{chosen}"
+        base = base if chosen is None else f"{base}/{chosen}"
+        if self.strategy == STRATEGY_METHOD:
+            return base
+        noise = "" if self.camera_noise == 1.0 else f"-noise{self.camera_noise:g}"
+        return f"{base}/{self.strategy}{noise}"
 
 
 def swept_object(condition: str, object_name: str | None) -> str | None:
@@ -83,6 +90,8 @@ def run_trial(spec: TrialSpec) -> dict:
         seed=spec.seed,
         out_root=spec.runs_dir,
         record=spec.record,
+        strategy=spec.strategy,
+        camera_noise=spec.camera_noise,
     )
     row = {"trial_id": spec.trial_id, **asdict(spec)}
     try:

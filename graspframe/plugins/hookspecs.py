@@ -50,6 +50,13 @@ def graspframe_register_objects(register: Register) -> None:
 
 
 @hookspec
+def graspframe_register_cameras(register: Register) -> None:
+    """Register depth cameras: call `register(CameraClass)` for each (a `DepthCamera`
+    subclass, graspframe.hal.depth_camera); the servo strategy measures the object
+    with one."""
+
+
+@hookspec
 def graspframe_register_viewers(register: Register) -> None:
     """Register viewers of recorded runs: call `register(ViewerClass)` for each (a
     `Viewer` subclass); `graspframe review` asks them."""

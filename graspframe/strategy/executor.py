@@ -13,7 +13,7 @@ graspframe/events.py.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -140,11 +140,22 @@ class _Strategy:
 
     # -- stages -------------------------------------------------------------------------
 
-    def _move_to_pre_approach(self, open_q: Mapping[str, float]) -> None:
+    def _move_to_pre_approach(
+        self,
+        open_q: Mapping[str, float],
+        T_world_palm_via: NDArray[np.float64] | None = None,
+        at_via: Callable[[], None] | None = None,
+    ) -> None:
+        """Open the hand while the arm moves the palm to the via (the plan's, or
+        `T_world_palm_via`), call `at_via` there (a strategy's look), then descend to the
+        pre-approach pose."""
         plan, motion = self.plan, self.motion
         self.world.hand.set_joint_targets(open_q)
         self.emit(events.EXECUTE_PRESHAPE, preshape=plan.preshape)
-        duration = motion.move_palm_to(self.path.T_world_palm_via)
+        via = self.path.T_world_palm_via if T_world_palm_via is None else T_world_palm_via
+        duration = motion.move_palm_to(via)
+        if at_via is not None:
+            at_via()
         descent = self.path.descent
         if descent is not None:
             duration += motion.move_palm_linear(

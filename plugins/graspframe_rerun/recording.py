@@ -131,6 +131,7 @@ class RunRecording:
             events.PLAN_DONE.name: self._on_plan_done,
             events.EXECUTE_FIRST_CONTACT.name: self._on_execute_first_contact,
             events.EXECUTE_CORRECTION.name: self._on_execute_correction,
+            events.EXECUTE_DEPTH_IMAGE.name: self._on_execute_depth_image,
             events.EXECUTE_HOLD.name: self._on_execute_hold,
             events.SCORE_DONE.name: self._on_score_done,
             events.CLASSIFY_IMAGES.name: self._on_classify_images,
@@ -259,6 +260,34 @@ class RunRecording:
                 labels=[f"correction {data['index']}: {data.get('reason', '')}"],
             ),
             static=True,
+        )
+
+    def _on_execute_depth_image(self, data: dict) -> None:
+        """The servo's depth camera: its pose and pinhole in the world, the image (shown
+        as a point cloud in 3D, 0 where no return), and the fitted object position."""
+        c = data["intrinsics"]
+        T = np.asarray(data["T_world_camera"])
+        self._log("world/depth_camera", rr.Transform3D(translation=T[:3, 3], mat3x3=T[:3, :3]))
+        self._log(
+            "world/depth_camera/image",
+            rr.Pinhole(
+                focal_length=[c["fx"], c["fy"]],
+                principal_point=[c["cx"], c["cy"]],
+                width=c["width"],
+                height=c["height"],
+                camera_xyz=rr.ViewCoordinates.RDF,
+            ),
+        )
+        depth = np.nan_to_num(np.asarray(data["depth_m"], dtype=np.float32), nan=0.0)
+        self._log("world/depth_camera/image", rr.DepthImage(depth, meter=1.0))
+        self._log(
+            "world/object_fitted",
+            rr.Points3D(
+                [np.asarray(data["p_world_fitted"])],
+                radii=0.006,
+                colors=[(40, 200, 80)],
+                labels=[f"fitted object ({data['stage']}, step {data['step']})"],
+            ),
         )
 
     def _on_execute_hold(self, data: dict) -> None:
