@@ -233,6 +233,12 @@ EXECUTE_SERVO = EventKind(
             "points, inlier_fraction, rms_mm, accepted, reason (why not)",
         ),
         PayloadField("correction_mm", "[mm] the palm's move (x, y), world frame; 0 for none"),
+        PayloadField(
+            "skipped",
+            "why an accepted correction was not made (at the standoff: larger than the "
+            "sideways move allowed there); absent when it was made or not needed",
+            optional=True,
+        ),
     ),
 )
 EXECUTE_DEPTH_IMAGE = EventKind(

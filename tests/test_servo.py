@@ -9,6 +9,8 @@ import json
 import numpy as np
 import pytest
 
+from graspframe import events
+from graspframe.errors import GraspframeError
 from graspframe.experiments.trials import TrialSpec
 from graspframe.grasps import HumanGrasp
 from graspframe.run_request import RunRequest
@@ -91,3 +93,17 @@ def test_a_servo_trial_has_an_id_of_its_own(strategy, noise, trial_id):
         "barrett", "pinch", "B0", ERROR, 0, "runs", strategy=strategy, camera_noise=noise
     )
     assert spec.trial_id == trial_id
+
+
+def test_a_correction_too_large_for_the_standoff_is_reported_as_skipped():
+    """The record the strategy emits when it refuses a sideways move at the standoff."""
+    record = {
+        "stage": "standoff",
+        "step": 1,
+        "fit": {"accepted": True, "shift_mm": [30.0, 0.0]},
+        "correction_mm": [0.0, 0.0],
+        "skipped": "larger than the standoff allows",
+    }
+    events.EXECUTE_SERVO.check(record)  # a declared, optional field
+    with pytest.raises(GraspframeError, match="undeclared payload fields"):
+        events.EXECUTE_SERVO.check({**record, "reason": "x"})

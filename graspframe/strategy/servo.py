@@ -35,7 +35,7 @@ from graspframe.strategy.executor import ExecutorParams, _moved, _Strategy
 from graspframe.strategy.planner import GraspPlan
 
 TOLERANCE = 0.003  # [m] an estimate this close to the believed position is left alone
-MAX_STEPS = 4  # corrections at the pre-approach pose, and again at the standoff
+MAX_STEPS = 4  # looks per stage (start, via, pre-approach, standoff)
 MAX_STANDOFF_SHIFT = 0.02  # [m] a larger correction at the standoff is not made there
 # The head camera: 320 x 240 px at 290 px focal length (the QVGA mode of the Kinect class,
 # 580 px at 640 x 480), in the world above and beside the arm's base (at the world origin
