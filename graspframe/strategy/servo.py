@@ -97,6 +97,9 @@ class _ServoStrategy(_Strategy):
         self.self_filter = RobotSelfFilter(owner.config.robot.model, owner.config.T_world_arm_base)
         self.model = ObjectModel(self.obj, owner.seed)
         self.T_world_object_believed = owner.T_world_object_believed.copy()
+        # The path as the looks have shifted it so far: its via and its palm goal.
+        self.T_via = self.path.T_world_palm_via.copy()
+        self.T_goal = self.plan.T_world_palm_goal.copy()
 
     def run(self) -> Grip:
         if self.plan.volar:
@@ -176,34 +179,27 @@ class _ServoStrategy(_Strategy):
         at the via, before the descent."""
         self._servo("start", self._shift_plan)
         self._move_to_pre_approach(
-            open_q, self._T_via_now(), at_via=lambda: self._servo("via", self._shift_via)
+            open_q, self.T_via, at_via=lambda: self._servo("via", self._shift_via)
         )
 
     def _shift_plan(self, shift: NDArray[np.float64]) -> bool:
         """Shift the whole path by `shift` [m] before the arm moves."""
-        self._T_goal = _moved(self.T_goal, shift)
-        self._T_via = _moved(self._T_via_now(), shift)
+        self.T_goal = _moved(self.T_goal, shift)
+        self.T_via = _moved(self.T_via, shift)
         return True
 
     def _shift_via(self, shift: NDArray[np.float64]) -> bool:
         """Shift the via, and the path after it, by `shift` [m] and go to the new via."""
-        self._T_goal = _moved(self.T_goal, shift)
-        self._T_via = _moved(self._T_via_now(), shift)
-        self.motion.move_palm_to(self._T_via)
+        self.T_goal = _moved(self.T_goal, shift)
+        self.T_via = _moved(self.T_via, shift)
+        self.motion.move_palm_to(self.T_via)
         return True
-
-    def _T_via_now(self) -> NDArray[np.float64]:
-        return getattr(self, "_T_via", self.path.T_world_palm_via)
-
-    @property
-    def T_goal(self) -> NDArray[np.float64]:
-        return self.plan.T_world_palm_goal if not hasattr(self, "_T_goal") else self._T_goal
 
     def _shift_approach(self, shift: NDArray[np.float64]) -> bool:
         """Shift the whole approach by `shift` [m] and go to its new start."""
-        self._T_goal = _moved(self.T_goal, shift)
+        self.T_goal = _moved(self.T_goal, shift)
         start = self.path.approach
-        T_start = _moved(self._T_goal, -start.distance * start.unit_direction)
+        T_start = _moved(self.T_goal, -start.distance * start.unit_direction)
         self.motion.move_palm_to(T_start)
         return True
 
@@ -213,7 +209,7 @@ class _ServoStrategy(_Strategy):
         distance = float(np.linalg.norm(shift))
         if distance > self.owner.servo.max_standoff_shift:
             return False
-        self._T_goal = _moved(self.T_goal, shift)
+        self.T_goal = _moved(self.T_goal, shift)
         self.motion.move_palm_linear(
             shift / distance, distance, self.p.approach_speed, stop_on_contact=False
         )
