@@ -16,6 +16,7 @@ import numpy as np
 
 from graspframe.defaults import DEFAULT_CLASSIFIER
 from graspframe.errors import InputError
+from graspframe.hal.classifier import HumanGraspEstimate
 from graspframe.transforms import rpy_from_R
 from graspframe.vision.images import read_image
 
@@ -29,16 +30,25 @@ EULER_CONVENTION = (
 )
 
 
-def estimate_as_dict(estimate) -> dict:
-    """JSON-ready form of a HumanGraspEstimate (angles [deg], position [m])."""
-    roll, pitch, yaw = np.degrees(rpy_from_R(estimate.R_camera_palm))
+CAMERA_FRAME = "OpenCV: x right, y down, z forward"
+
+
+def euler_deg(R_camera_palm: np.ndarray) -> tuple[float, float, float]:
+    """Roll, pitch, yaw [deg] of a rotation, in EULER_CONVENTION."""
+    roll, pitch, yaw = np.degrees(rpy_from_R(R_camera_palm))
+    return float(roll), float(pitch), float(yaw)
+
+
+def estimate_as_json(estimate: HumanGraspEstimate) -> dict[str, object]:
+    """The JSON document `classify --json` prints (angles [deg], position [m])."""
+    roll, pitch, yaw = euler_deg(estimate.R_camera_palm)
     return {
         "grasp": estimate.grasp.value,
         "confidence": round(estimate.confidence, 4),
         "R_camera_palm": np.round(estimate.R_camera_palm, 6).tolist(),
         "euler_deg": {"roll": round(roll, 2), "pitch": round(pitch, 2), "yaw": round(yaw, 2)},
         "euler_convention": EULER_CONVENTION,
-        "camera_frame": "OpenCV: x right, y down, z forward",
+        "camera_frame": CAMERA_FRAME,
         "p_camera_palm_m": None
         if estimate.p_camera_palm is None
         else np.round(estimate.p_camera_palm, 4).tolist(),
@@ -47,7 +57,7 @@ def estimate_as_dict(estimate) -> dict:
                 "view_id": n.view_id,
                 "grasp": n.grasp.value,
                 "distance": round(n.distance, 4),
-                "euler_deg": np.round(np.degrees(rpy_from_R(n.R_camera_palm)), 2).tolist(),
+                "euler_deg": [round(angle, 2) for angle in euler_deg(n.R_camera_palm)],
             }
             for n in estimate.neighbours
         ],
@@ -76,42 +86,47 @@ def classify_command(
         raise InputError(f"--k must be >= 1, got {k}")
     # --k is for kNN classifiers; both built-in ones take k.
     estimate = classifier_class(k=k).classify(read_image(image))  # type: ignore[call-arg]
-    result = estimate_as_dict(estimate)
     if as_json:
-        sys.stdout.write(json.dumps(result, indent=2) + "\n")
+        sys.stdout.write(json.dumps(estimate_as_json(estimate), indent=2) + "\n")
         return 0
+    _print_estimate(estimate)
+    return 0
+
+
+def _print_estimate(estimate: HumanGraspEstimate) -> None:
+    """The estimate as text and a table of its neighbours (rich)."""
     from rich.console import Console
     from rich.table import Table
 
     console = Console()
-    console.print(f"grasp: [bold]{result['grasp']}[/bold]  confidence {result['confidence']:.2f}")
-    e = result["euler_deg"]
     console.print(
-        f"hand orientation R_camera_palm (camera frame {result['camera_frame']}):\n"
-        + "\n".join("  " + "  ".join(f"{v:+.3f}" for v in row) for row in result["R_camera_palm"])
+        f"grasp: [bold]{estimate.grasp.value}[/bold]  confidence {estimate.confidence:.2f}"
     )
     console.print(
-        f"Euler \\[deg]: roll {e['roll']:+.1f}, pitch {e['pitch']:+.1f}, yaw {e['yaw']:+.1f}"
-        f"  ({EULER_CONVENTION})"
+        f"hand orientation R_camera_palm (camera frame {CAMERA_FRAME}):\n"
+        + "\n".join("  " + "  ".join(f"{v:+.3f}" for v in row) for row in estimate.R_camera_palm)
     )
-    if result["p_camera_palm_m"] is not None:
-        p = result["p_camera_palm_m"]
+    roll, pitch, yaw = euler_deg(estimate.R_camera_palm)
+    console.print(
+        f"Euler \\[deg]: roll {roll:+.1f}, pitch {pitch:+.1f}, yaw {yaw:+.1f}  ({EULER_CONVENTION})"
+    )
+    if estimate.p_camera_palm is not None:
+        x, y, z = estimate.p_camera_palm
         console.print(
             f"palm position \\[m] (assumes a 60 deg horizontal field of view): "
-            f"{p[0]:+.3f} {p[1]:+.3f} {p[2]:+.3f}"
+            f"{x:+.3f} {y:+.3f} {z:+.3f}"
         )
     table = Table(title="neighbours (nearest first)")
     for column in ("view", "grasp", "distance", "roll/pitch/yaw \\[deg]"):
         table.add_column(column)
-    for n in result["neighbours"]:
+    for n in estimate.neighbours:
         table.add_row(
-            str(n["view_id"]),
-            n["grasp"],
-            f"{n['distance']:.3f}",
-            " / ".join(f"{v:+.0f}" for v in n["euler_deg"]),
+            str(n.view_id),
+            n.grasp.value,
+            f"{n.distance:.3f}",
+            " / ".join(f"{v:+.0f}" for v in euler_deg(n.R_camera_palm)),
         )
     console.print(table)
-    return 0
 
 
 def db_build_command(
