@@ -107,7 +107,7 @@ def _closing_check(hand: HandDescription, pictures: Path | None) -> CheckResult:
     )
     for preshape in hand.preshapes.values():
         gaps = ", ".join(
-            f"{a}-{b} {1000 * g.open_gap:.0f} -> {1000 * g.closed_gap:.0f} mm"
+            f"{a}-{b} {round(1000 * g.open_gap)} -> {round(1000 * g.closed_gap)} mm"
             for g in closing_gaps(hand, preshape)
             for a, b in [g.fingers]
         )
