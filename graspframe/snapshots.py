@@ -11,18 +11,21 @@ by its contact count per real finger; one row per view, each a perspective rende
   faces down, behind the wrist; turned 60 deg aside when the arm would stand in the
   way), world z up: how the fingers reach around the object;
 - palm: in the palm frame of each moment, looking at the palm from the object's side,
-  fingertips (palm +x) up: what touches the palm and the inner finger faces.
+  fingertips (palm +x) up: what touches the palm and the inner finger faces. This row
+  draws the simulated shapes (every link's collision shapes, a mesh object's convex
+  pieces), on which the contacts lie; for a vendor model whose visual meshes differ
+  from its collision shapes, the two rows above show what the hand looks like.
 
 The side and above views keep one camera for all moments (fitted to the hand and the
 object in all of them): the lift and any slip show as motion between columns. The palm
 view keeps one camera in the palm frame.
 
-Each panel shows the robot's meshes (each link's visual meshes when the model has them,
-else its collision shapes; hand links coloured by real finger, the palm grey, a vendor
-mesh keeping a tint of its material colour; arm links only near the palm, muted), the
-object (`graspframe.shapes.object_mesh`), the table top as a checker of 5 cm squares
-(a floor and a scale for the eye), the contacts and the palm axes (red arrow: palm +z,
-blue arrow: palm +x; 3 cm each).
+The side and above panels show the robot's meshes (each link's visual meshes when the
+model has them, else its collision shapes; hand links coloured by real finger, the palm
+grey, a vendor mesh keeping a tint of its material colour; arm links only near the
+palm, muted), the object (`graspframe.shapes.object_mesh`), the table top as a checker
+of 5 cm squares (a floor and a scale for the eye), the contacts and the palm axes (red
+arrow: palm +z, blue arrow: palm +x; 3 cm each).
 
 Readable at a glance for a failed grasp: what matters is where the fingers touch, and
 most contacts are on the far side of the object or under a finger from some view. So the
@@ -52,13 +55,13 @@ from graspframe.pictures import style
 from graspframe.pictures.inputs import checked_figure, checked_object_soup, contact_points, pose
 from graspframe.pictures.panel import legend_entries, render_panel
 from graspframe.pictures.render3d import Camera, Placed, View, box_corners, fit_view
-from graspframe.pictures.robot_scene import distance_to, table_soup
+from graspframe.pictures.robot_scene import RobotFigure, distance_to, table_soup
 from graspframe.pictures.sheet import compose, write_png
 from graspframe.strategy.execution import Moment
 from graspframe.transforms import R_from_axis_angle, inv_T, transform_points
 from graspframe.urdf_model import UrdfModel
 
-PICTURE_STYLE = 2  # changes with the look of the pictures (cached pictures are redrawn)
+PICTURE_STYLE = 3  # changes with the look of the pictures (cached pictures are redrawn)
 PANEL_PX = 360  # [px] side of a square panel
 FOV_DEG = 30.0  # horizontal field of view of every camera
 FAR_OBJECT = 0.5  # [m] an object further from the palm is left out of the framing
@@ -145,28 +148,41 @@ class Snapshot:
 
 
 @dataclass
+class _Bodies:
+    """What a panel draws of one moment, placed in the world."""
+
+    hand: list[Placed]
+    arm: list[Placed]  # translucent: the links near the palm
+    object: Placed  # translucent
+
+    def all(self) -> list[Placed]:
+        return [*self.hand, *self.arm, self.object]
+
+
+@dataclass(frozen=True)
 class _Moment:
-    """One snapshot placed in the world: hand links, near arm links, object, contacts."""
+    """One snapshot placed in the world: as it looks (`shown`: visual meshes where the
+    model has them) and as it is simulated (`simulated`: collision shapes, the object's
+    convex pieces), and its contacts."""
 
     snapshot: Snapshot
     T_world_palm: NDArray[np.float64]
-    hand: list[Placed]
-    arm: list[Placed]  # translucent
-    object: Placed  # translucent
+    shown: _Bodies
+    simulated: _Bodies
     contacts_world: NDArray[np.float64]
 
     @property
     def object_near(self) -> bool:
         """False when the object is far from the hand (knocked away, or fallen through
         the table after a simulation failure): the views then frame the hand alone."""
-        p_world_object = self.object.T_world_soup[:3, 3]
+        p_world_object = self.shown.object.T_world_soup[:3, 3]
         return float(np.linalg.norm(p_world_object - self.T_world_palm[:3, 3])) <= FAR_OBJECT
 
     def framed_points(self) -> NDArray[np.float64]:
         """(n, 3) [m] world points a view must show: the hand, and the object when near."""
-        boxes = [box_corners(p) for p in self.hand]
+        boxes = [box_corners(p) for p in self.shown.hand]
         if self.object_near:
-            boxes.append(box_corners(self.object))
+            boxes.append(box_corners(self.shown.object))
         return np.concatenate(boxes)
 
 
@@ -190,6 +206,16 @@ def _place_moments(
     figure = checked_figure(
         scene.model, scene.finger_of_link, colours, scene.palm_frame, "snapshots"
     )
+    # The simulated shapes differ from those shown where the model has visual meshes or
+    # the object is a mesh (drawn from its scan, simulated as convex pieces).
+    simulated_figure = figure
+    if scene.model.visuals:
+        simulated_figure = checked_figure(
+            scene.model, scene.finger_of_link, colours, scene.palm_frame, "snapshots", True
+        )
+    simulated_soup = soup
+    if scene.obj.is_mesh:
+        simulated_soup = checked_object_soup(scene.obj, "snapshots", simulated=True)
     moments = []
     for snapshot, T_world_object, contacts in checked:
         q = dict(snapshot.q_by_joint)
@@ -197,19 +223,33 @@ def _place_moments(
             q = scene.joint_followers(q)
         try:
             figure.place(q)
+            simulated_figure.place(q)
         except GraspframeError as exc:
             raise InputError(f"snapshot {snapshot.label!r}: {exc}") from None
         T_world_palm = T_world_root @ figure.T_root_frame(scene.palm_frame)
-        links = figure.placed_links(T_world_root)
-        hand = [p for link, p in links.items() if figure.is_hand_link(link)]
-        arm = [
-            Placed(p.soup, p.T_world_soup, translucent=True)
-            for link, p in links.items()
-            if not figure.is_hand_link(link) and distance_to(p, T_world_palm[:3, 3]) <= NEAR_HAND
-        ]
-        placed_object = Placed(soup, T_world_object, translucent=True)
-        moments.append(_Moment(snapshot, T_world_palm, hand, arm, placed_object, contacts))
+        shown = _bodies(
+            figure, T_world_root, T_world_palm, Placed(soup, T_world_object, translucent=True)
+        )
+        simulated = _bodies(
+            simulated_figure,
+            T_world_root,
+            T_world_palm,
+            Placed(simulated_soup, T_world_object, translucent=True),
+        )
+        moments.append(_Moment(snapshot, T_world_palm, shown, simulated, contacts))
     return moments
+
+
+def _bodies(figure: RobotFigure, T_world_root, T_world_palm, placed_object: Placed) -> _Bodies:
+    """The figure's hand links, its arm links near the palm (translucent), the object."""
+    links = figure.placed_links(T_world_root)
+    hand = [p for link, p in links.items() if figure.is_hand_link(link)]
+    arm = [
+        Placed(p.soup, p.T_world_soup, translucent=True)
+        for link, p in links.items()
+        if not figure.is_hand_link(link) and distance_to(p, T_world_palm[:3, 3]) <= NEAR_HAND
+    ]
+    return _Bodies(hand, arm, placed_object)
 
 
 def _horizontal(v) -> NDArray[np.float64] | None:
@@ -292,7 +332,8 @@ def contact_summary(snapshot: Snapshot) -> str:
     return f"{total} contact{'s' if total != 1 else ''}: {listing}"
 
 
-ROW_LABELS = ("side", "from above", "palm frame, facing the palm")
+ROW_LABELS = ("side", "from above", "palm frame, facing the palm: the simulated shapes")
+ROW_CONTENT = ((True, False), (True, False), (False, True))  # (with the table, simulated)
 
 
 def draw_snapshots(
@@ -306,7 +347,7 @@ def draw_snapshots(
     colours = style.finger_colours(scene.finger_of_link)
     moments = _place_moments(scene, snapshots, colours)
     reference = moments[0].T_world_palm
-    arm_points = [box_corners(p) for m in moments for p in m.arm]
+    arm_points = [box_corners(p) for m in moments for p in m.shown.arm]
     p_world_arm = np.concatenate(arm_points) if arm_points else None
     rows = [
         _world_views(moments, side_direction(reference, p_world_arm)),
@@ -317,14 +358,13 @@ def draw_snapshots(
     centre_xy = (points.min(axis=0) + points.max(axis=0))[:2] / 2
     table = Placed(table_soup(centre_xy, TABLE_HALF_SIZE, scene.table_height), np.eye(4))
     panels = []
-    for views, with_table in zip(rows, (True, True, False), strict=True):
+    for views, (with_table, simulated) in zip(rows, ROW_CONTENT, strict=True):
         row = []
         for moment, view in zip(moments, views, strict=True):
-            placed = [*moment.hand, *moment.arm, moment.object]
-            if with_table:
-                placed.append(table)
+            bodies = moment.simulated if simulated else moment.shown
+            placed = bodies.all() + ([table] if with_table else [])
             row.append(
-                render_panel(placed, view, moment.contacts_world, moment.T_world_palm, moment.hand)
+                render_panel(placed, view, moment.contacts_world, moment.T_world_palm, bodies.hand)
             )
         panels.append(row)
     headers = []
@@ -333,7 +373,7 @@ def draw_snapshots(
         if not moment.object_near:
             label += " (object out of view)"
         headers.append(f"{label}\n{contact_summary(moment.snapshot)}")
-    with_arm = any(m.arm for m in moments)
+    with_arm = any(m.shown.arm for m in moments)
     sheet = compose(
         title, headers, ROW_LABELS, panels, legend_entries(colours, with_arm, with_table=True)
     )

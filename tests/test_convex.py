@@ -194,3 +194,37 @@ def test_nearly_coplanar_vertices_are_dropped():
     # Every vertex that stays is farther than the tolerance from the hull of the others.
     hull = convex.convex_hull(np.vstack([cube, [[0.0, 0.0, 0.0205], [0.01, 0.0, 0.0203]]]))
     assert hull is not None and len(hull.vertices) == 8
+
+
+# The largest gap a simplified piece leaves inside its original: the docstring's bound.
+MAX_INNER_GAP = 1.5e-3  # [m]
+
+
+def test_the_panda_meshes_are_kept_whole_but_for_flat_vertices(panda_description_dir):
+    """The Panda's collision STLs are convex, of up to 152 hull vertices: none is cut
+    down to fewer, so each piece reaches within 1.5 mm of the vendor's surface."""
+    from scipy.spatial import ConvexHull
+
+    meshes = sorted((panda_description_dir / "meshes" / "collision").glob("link*.stl"))
+    assert len(meshes) == 8
+    for path in meshes:
+        pieces = convex_pieces(path)
+        vertices = convex.load_mesh(path).vertices
+        assert pieces.method == METHOD_HULL and len(pieces.pieces) == 1, path.name
+        assert convex.inner_gap(vertices, pieces.pieces[0]) <= MAX_INNER_GAP, path.name
+        assert len(ConvexHull(vertices).vertices) <= MAX_PIECE_VERTICES, path.name
+
+
+def test_the_ycb_given_pieces_lie_within_the_bound():
+    """Each YCB scan's V-HACD part, as a piece, reaches within 1.5 mm of the part."""
+    from conftest import THIRD_PARTY
+
+    pieces_file = THIRD_PARTY / "objects/ycb/006_mustard_bottle/google_16k/textured_vhacd.stl"
+    if not pieces_file.is_file():
+        pytest.skip("the YCB scans are not on this machine")
+    parts = convex.load_mesh(pieces_file).split(only_watertight=False)
+    assert len(parts) > 50
+    for part in parts:
+        piece = convex.convex_hull(part.vertices)  # what `given pieces` keeps of a part
+        if piece is not None:
+            assert convex.inner_gap(part.vertices, piece) <= MAX_INNER_GAP

@@ -176,8 +176,8 @@ def test_hand_on_arm_draws_the_arm_links_near_the_hand(tmp_path: Path):
     moment = Snapshot("hold", q, make_T(p=p_world_object), np.zeros((0, 3)), [])
     colours = style.finger_colours(hand.finger_of_link())
     (placed,) = snap._place_moments(scene, [moment], colours)
-    assert placed.arm and all(p.translucent for p in placed.arm)
-    assert len(placed.arm) < len(arm.joints)  # only the links at the wrist
+    assert placed.shown.arm and all(p.translucent for p in placed.shown.arm)
+    assert len(placed.shown.arm) < len(arm.joints)  # only the links at the wrist
     image = read_rgb(draw_snapshots(tmp_path / "arm.png", scene, [moment], "t"))
     assert image.shape[1] == sheet_width(1)
 
@@ -274,3 +274,19 @@ def test_the_leap_hand_is_drawn_with_its_visual_meshes(tmp_path: Path):
     assert image.shape[1] == sheet_width(2)
     for finger in ("index", "middle", "ring", "thumb"):
         assert np.count_nonzero(hue_mask(image, colours[finger])) > 2000, finger
+
+
+@pytest.mark.skipif(not LEAP_URDF.is_file(), reason="the third-party models are not here")
+def test_the_palm_row_draws_the_shapes_that_are_simulated():
+    """Side and above: the LEAP's visual meshes; the palm row: its collision boxes and
+    hulls, the shapes the simulator and the collision checker use."""
+    scene = leap_scene()
+    colours = style.finger_colours(scene.finger_of_link)
+    collision = RobotFigure(scene.model, scene.finger_of_link, colours, simulated=True)
+    # The palm's collision shapes are boxes: 12 triangles each.
+    assert len(collision.soups["palm_lower"]) % 12 == 0
+    (moment,) = snap._place_moments(scene, [Snapshot("closed", leap_q(0.9), np.eye(4))], colours)
+    shown = {len(p.soup) for p in moment.shown.hand}
+    simulated = {len(p.soup) for p in moment.simulated.hand}
+    assert len(collision.soups["palm_lower"]) in simulated
+    assert len(collision.soups["palm_lower"]) not in shown

@@ -42,9 +42,10 @@ def contact_points(points, fingers: Sequence[str], what: str) -> NDArray[np.floa
     return array
 
 
-def checked_object_soup(obj, what: str) -> Soup:
-    """The object's soup (robot_scene.object_soup); InputError when `obj` is not an
-    ObjectDescription or its mesh cannot be made."""
+def checked_object_soup(obj, what: str, simulated: bool = False) -> Soup:
+    """The object's soup (robot_scene.object_soup, its collision shapes with
+    `simulated`); InputError when `obj` is not an ObjectDescription or its mesh cannot be
+    made."""
     from graspframe.pictures.robot_scene import object_soup
 
     if not isinstance(obj, ObjectDescription):
@@ -52,18 +53,21 @@ def checked_object_soup(obj, what: str) -> Soup:
             f"{what}: the object must be an ObjectDescription, got {type(obj).__name__}"
         )
     try:
-        return object_soup(obj)
+        return object_soup(obj, simulated)
     except (GraspframeError, OSError, ValueError) as exc:
         raise InputError(f"{what}: cannot draw object {obj.name!r}: {exc}") from None
 
 
-def checked_figure(model, finger_of_link, colours, palm_frame: str, what: str):
-    """A RobotFigure of `model` (robot_scene.py) that has the frame `palm_frame` and
-    some hand link to draw; InputError naming `what` otherwise."""
+def checked_figure(
+    model, finger_of_link, colours, palm_frame: str, what: str, simulated: bool = False
+):
+    """A RobotFigure of `model` (robot_scene.py; its collision shapes with `simulated`)
+    that has the frame `palm_frame` and some hand link to draw; InputError naming `what`
+    otherwise."""
     from graspframe.pictures.robot_scene import RobotFigure
 
     try:
-        figure = RobotFigure(model, finger_of_link, colours)
+        figure = RobotFigure(model, finger_of_link, colours, simulated)
     except GraspframeError as exc:
         raise InputError(f"{what}: {exc}") from None
     if not figure.has_frame(palm_frame):

@@ -27,11 +27,17 @@ class RobotFigure:
 
     finger_of_link: hand link -> real finger; links missing from it are arm links
     (ARM_COLOUR). colours: real finger -> colour (style.finger_colours).
+    simulated: draw every link's collision shapes (what the simulator and the collision
+    checker use) instead of its visual meshes.
     DescriptionError when the model cannot be loaded.
     """
 
     def __init__(
-        self, model: UrdfModel, finger_of_link: Mapping[str, str], colours: Mapping[str, str]
+        self,
+        model: UrdfModel,
+        finger_of_link: Mapping[str, str],
+        colours: Mapping[str, str],
+        simulated: bool = False,
     ):
         from graspframe.robot_model import CollisionModel
 
@@ -40,9 +46,8 @@ class RobotFigure:
         self.soups: dict[str, Soup] = {}
         for meshes in robot_meshes(model):
             base = style.rgb(style.link_colour(meshes.link, finger_of_link, colours))
-            parts = [
-                Soup.of_mesh(s.vertices, s.faces, style.tinted(base, s.rgb)) for s in meshes.shown
-            ]
+            surfaces = meshes.collision if simulated else meshes.shown
+            parts = [Soup.of_mesh(s.vertices, s.faces, style.tinted(base, s.rgb)) for s in surfaces]
             if parts:
                 self.soups[meshes.link] = Soup(
                     np.concatenate([p.positions for p in parts]),
@@ -80,10 +85,18 @@ def distance_to(placed: Placed, p_world) -> float:
     return float(np.linalg.norm(placed.soup.positions - p_soup, axis=1).min())
 
 
-def object_soup(obj) -> Soup:
-    """The object's display mesh (`graspframe.shapes.object_mesh`) in the object frame."""
-    from graspframe.shapes import object_mesh
+def object_soup(obj, simulated: bool = False) -> Soup:
+    """The object in the object frame: its display mesh (`graspframe.shapes.object_mesh`),
+    or with `simulated` its collision shapes (`graspframe.shapes.object_collision_meshes`:
+    a mesh object's convex pieces)."""
+    from graspframe.shapes import object_collision_meshes, object_mesh
 
+    if simulated:
+        pieces = object_collision_meshes(obj)
+        vertices = np.concatenate([p.vertices for p in pieces])
+        offsets = np.cumsum([0] + [len(p.vertices) for p in pieces[:-1]])
+        faces = np.concatenate([p.faces + o for p, o in zip(pieces, offsets, strict=True)])
+        return Soup.of_mesh(vertices, faces, style.rgb(style.OBJECT_COLOUR))
     mesh = object_mesh(obj)
     return Soup.of_mesh(mesh.vertices, mesh.faces, style.rgb(style.OBJECT_COLOUR))
 
