@@ -18,6 +18,7 @@ from typing import Annotated
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 from graspframe import __version__
@@ -413,14 +414,15 @@ def _run_app(argv: list[str] | None) -> int:
     except GraspframeError as exc:
         if _state["verbose"]:
             traceback.print_exc()
-        err_console.print(f"[red]error:[/red] {exc}", highlight=False, soft_wrap=True)
+        # escape: a message's own brackets ("[mm]", ".[hands]", paths) are not markup
+        err_console.print(f"[red]error:[/red] {escape(str(exc))}", highlight=False, soft_wrap=True)
         return EXIT_ERROR
     except Exception as exc:  # a bug, not a user error: still one line unless --verbose
         if _state["verbose"]:
             traceback.print_exc()
         else:
             err_console.print(
-                f"[red]internal error:[/red] {type(exc).__name__}: {exc} "
+                f"[red]internal error:[/red] {type(exc).__name__}: {escape(str(exc))} "
                 "(run with --verbose for the traceback)",
                 highlight=False,
                 soft_wrap=True,

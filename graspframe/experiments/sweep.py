@@ -228,7 +228,8 @@ def _run_dask(todo: list[TrialSpec], config: SweepConfig) -> Generator[dict, Non
         from distributed import as_completed as dask_as_completed
     except ImportError:
         raise InputError(
-            "the dask executor needs Dask distributed: pip install 'graspframe[dask]'"
+            'the dask executor needs Dask distributed: pip install ".[dask]" in the '
+            "graspframe folder (the `dask` extra)"
         ) from None
     # Workers must be allowed to start the per-trial processes.
     with dask.config.set({"distributed.worker.daemon": False}):

@@ -1,6 +1,7 @@
 """Optional hand detector: MediaPipe Hands (the legacy `mp.solutions.hands` API).
 
-Installed by the `hands` extra (`pip install graspframe[hands]`); the hand models ship
+Installed by the `hands` extra (`pip install ".[hands]"` in the graspframe folder;
+Python 3.11 and 3.12 only: MediaPipe 0.10.14 has no wheel for 3.13); the hand models ship
 inside the mediapipe wheel, so nothing is downloaded at run time. Imported lazily on
 first use; without mediapipe (or with GRASPFRAME_HAND_DETECTOR=none) `detect_hand`
 returns None (the hog_knn plugin's segmentation then keeps its colour method; the

@@ -38,7 +38,8 @@ def require_detector() -> None:
         )
     raise NotAvailableError(
         "the landmarks classifier needs MediaPipe, which is not installed: "
-        "pip install 'graspframe[hands]' (the `hands` extra)"
+        'pip install ".[hands]" in the graspframe folder (the `hands` extra; '
+        "Python 3.11 or 3.12: MediaPipe 0.10.14 has no wheel for 3.13)"
     )
 
 
