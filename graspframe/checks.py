@@ -5,7 +5,9 @@ Three checks, in order, each reported with its verdict and what it measured:
 
 1. the description and its model (`graspframe.testing.hand_problems`: joints and limits
    against the model, real fingers, couplings, preshapes within limits, the mapping of
-   all six grasps, the palm frame's +z pointing out of the palm);
+   all six grasps, the palm frame's +z pointing out of the palm); with it, the links
+   that overlap in each preshape's open posture (`self_collision.open_preshape_collisions`),
+   reported but not failed here: the simulator runs without self-collision;
 2. closing each preshape in free space brings its opposed fingers together
    (`grasp_checks.closing_gaps`): the gap of every pair, open and closed; and a picture
    of each preshape closed kinematically around its design object (every finger stops
@@ -32,6 +34,7 @@ from graspframe.files import make_folder
 from graspframe.grasps import HUMAN_HAND
 from graspframe.hal.descriptions import HandDescription, HandPreshape, JointSpec
 from graspframe.hal.drivers import Backend
+from graspframe.robot_model import CollisionModel
 from graspframe.testing import hand_problems
 from graspframe.testing.grasp_checks import (
     OPPOSED_MAX_GAP,
@@ -41,6 +44,7 @@ from graspframe.testing.grasp_checks import (
     hold_measures,
     hold_trials,
 )
+from graspframe.testing.self_collision import open_preshape_collisions
 
 
 @dataclass
@@ -92,12 +96,30 @@ def hand_summary(hand: HandDescription) -> list[str]:
 
 
 def _description_check(hand: HandDescription) -> CheckResult:
+    problems = hand_problems(hand)
     return CheckResult(
         "the description against its model (joints, limits, real fingers, couplings, "
         "preshapes, the mapping, the palm frame's +z out of the palm)",
-        problems=hand_problems(hand),
-        measured=hand_summary(hand),
+        problems=problems,
+        measured=hand_summary(hand) + ([] if problems else _self_collision_lines(hand)),
     )
+
+
+def _self_collision_lines(hand: HandDescription) -> list[str]:
+    """The links that overlap in each preshape's open posture, with their signed
+    distances. Reported, not failed: the simulator runs without self-collision, so an
+    overlap changes no grasp here (the contract test `assert_hand_free_of_self_collision`
+    fails it)."""
+    collisions = open_preshape_collisions(hand, CollisionModel(hand.urdf()))
+    clear = [name for name, pairs in collisions.items() if not pairs]
+    lines = [f"open preshapes free of self-collision: {', '.join(clear) or 'none'}"]
+    for name, pairs in collisions.items():
+        if pairs:
+            overlaps = ", ".join(
+                f"{a}-{b} {round(1000 * distance, 1) + 0.0:.1f} mm" for a, b, distance in pairs
+            )
+            lines.append(f"self-collision in the open {name}: {overlaps}")
+    return lines
 
 
 def _closing_check(hand: HandDescription, pictures: Path | None) -> CheckResult:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import os
 from pathlib import Path
 
@@ -62,3 +63,15 @@ def panda_description_dir(monkeypatch) -> Path:
     folder = _vendor_dir("arms", "panda", "example-robot-data", "robots", "panda_description")
     monkeypatch.setenv("PANDA_DESCRIPTION_DIR", str(folder))
     return folder
+
+
+def folder_state(folder: Path) -> dict[str, str]:
+    """Everything under a vendor folder: relative path -> SHA-256 of a file's bytes, or
+    "folder" for a folder. Equal before and after a test: no file was edited, added or
+    removed, and nothing (not even an empty folder) was written beside the files."""
+    return {
+        str(path.relative_to(folder)): (
+            hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else "folder"
+        )
+        for path in sorted(folder.rglob("*"))
+    }

@@ -21,9 +21,11 @@ from graspframe.hal.descriptions import FINGERTIP_FRAMES_KEY
 from graspframe.testing import (
     assert_classifier_contract,
     assert_hand_contract,
+    assert_hand_free_of_self_collision,
     classifier_problems,
     estimate_problems,
     hand_problems,
+    self_collision_problems,
 )
 
 from fakes import make_fake_hand
@@ -32,6 +34,19 @@ from fakes import make_fake_hand
 def test_fake_hand_passes(fake_hand):
     assert hand_problems(fake_hand) == []
     assert_hand_contract(fake_hand)
+
+
+def test_an_open_preshape_that_crosses_its_fingers_is_named(fake_hand):
+    assert_hand_free_of_self_collision(fake_hand)
+    # Both fingers tilt towards each other by 1.2 rad: their 6 cm cylinders cross.
+    crossed = {"fk_finger_joint": 1.2, "fk_thumb_joint": 1.2}
+    preshape = HandPreshape("pinch", crossed, crossed, 0.06)
+    hand = dataclasses.replace(fake_hand, preshapes={"pinch": preshape})
+    (problem,) = self_collision_problems(hand)
+    assert "preshape 'pinch' open: links 'fk_finger' and 'fk_thumb' collide" in problem
+    assert "signed distance -" in problem
+    with pytest.raises(AssertionError, match="fk_finger"):
+        assert_hand_free_of_self_collision(hand)
 
 
 def _broken_cases(urdf):

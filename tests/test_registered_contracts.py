@@ -8,6 +8,7 @@ from graspframe.testing.contract_tests import (  # noqa: F401 - collected by pyt
     test_hand_alone_holds_its_design_objects,
     test_hand_closes_its_preshapes,
     test_hand_contract,
+    test_hand_open_preshapes_are_free_of_self_collision,
     test_no_plugin_failed_to_load,
 )
 

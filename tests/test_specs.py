@@ -17,7 +17,7 @@ from graspframe.hal import ArmDescription, HandDescription
 from graspframe.plugins import hookimpl
 from graspframe.registry import Registry, default_registry
 from graspframe.specs import load_spec
-from graspframe.testing import arm_problems, hand_problems
+from graspframe.testing import arm_problems, hand_problems, self_collision_problems
 
 
 def test_the_leap_hand_spec_describes_the_vendor_hand(leap_hand_dir):
@@ -31,6 +31,16 @@ def test_the_leap_hand_spec_describes_the_vendor_hand(leap_hand_dir):
     # No preshape states a delta: each comes from the fingertip frames, open preshape.
     assert all(0.05 < p.delta < 0.2 for p in hand.preshapes.values())
     assert hand_problems(hand) == []
+
+
+# The spec's palm pad (60 x 100 mm, palm x -40..20 mm) reaches over the thumb's root
+# (thumb_temp_base and thumb_pip, at palm x -33 mm): 1.3 to 6.7 mm deep in every open
+# preshape; and the pinch's open spread crosses the index and middle fingers (dip-dip_2
+# 7.5 mm deep). The simulator runs without self-collision, so no grasp shows it. Strict:
+# the test fails once the spec is clear, to be made a plain test then.
+@pytest.mark.xfail(strict=True, reason="the LEAP spec's pad and pinch overlap the thumb root")
+def test_the_leap_hand_spec_opens_free_of_self_collision(leap_hand_dir):
+    assert self_collision_problems(load_spec(LEAP_HAND_SPEC)) == []
 
 
 def test_the_panda_spec_describes_the_vendor_arm(panda_description_dir):

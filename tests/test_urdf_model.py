@@ -5,12 +5,12 @@ clashes between hand and arm resolved."""
 
 from __future__ import annotations
 
-import hashlib
 from pathlib import Path
 
 import numpy as np
 import pytest
 import trimesh
+from conftest import folder_state
 from graspframe_sapien.articulation import active_joints, create_scene, load_articulation
 from scipy.spatial import ConvexHull
 
@@ -27,18 +27,10 @@ from graspframe.urdf_model import FrameOffset, read_model
 PANDA_PACKAGE = "example-robot-data"
 
 
-def _digests(folder: Path) -> dict[str, str]:
-    return {
-        str(p.relative_to(folder)): hashlib.sha256(p.read_bytes()).hexdigest()
-        for p in sorted(folder.rglob("*"))
-        if p.is_file()
-    }
-
-
 def test_the_leap_hand_loads_as_shipped_and_stays_untouched(leap_hand_dir):
-    before = _digests(leap_hand_dir)
+    before = folder_state(leap_hand_dir)
     model = read_model(leap_hand_dir / "leap_hand_right.urdf")
-    assert _digests(leap_hand_dir) == before  # nothing edited, nothing written beside it
+    assert folder_state(leap_hand_dir) == before  # nothing edited, nothing written beside it
 
     assert len(summarize_urdf(model).joints) == 16
     assert "<visual" not in model.text  # a physics-only scene cannot load visuals

@@ -5,10 +5,8 @@ as shipped."""
 
 from __future__ import annotations
 
-import hashlib
-
 import pytest
-from conftest import LEAP_HAND_SPEC, PANDA_SPEC
+from conftest import LEAP_HAND_SPEC, PANDA_SPEC, folder_state
 
 from graspframe.commands.check_hand import check_hand_command
 from graspframe.grasps import HumanGrasp
@@ -19,31 +17,24 @@ from graspframe.runner import run_grasp
 pytestmark = pytest.mark.slow
 
 
-def _digests(folder) -> dict[str, str]:
-    return {
-        str(p.relative_to(folder)): hashlib.sha256(p.read_bytes()).hexdigest()
-        for p in sorted(folder.rglob("*"))
-        if p.is_file()
-    }
-
-
 def _held(result: dict) -> bool:
     outcome = result["outcome"]
     return bool(outcome["held_after_lift"] and outcome["held_under_disturbance"])
 
 
 def test_the_leap_hand_spec_passes_check_hand(leap_hand_dir, tmp_path, capsys):
-    before = _digests(leap_hand_dir)
+    before = folder_state(leap_hand_dir)
     assert check_hand_command(str(LEAP_HAND_SPEC), pictures=tmp_path) == 0
     printed = capsys.readouterr().out
     assert "3 of 3 checks ran, all passed" in printed and "4 of 4 held" in printed
     # One picture per preshape closed without physics, one per hold trial (held or not).
     assert len(list(tmp_path.glob("*_closing.png"))) == 4
     assert len(list(tmp_path.glob("*.png"))) == 8
-    assert _digests(leap_hand_dir) == before
+    assert folder_state(leap_hand_dir) == before
 
 
 def test_the_leap_hand_grasps_on_the_floating_base(leap_hand_dir, tmp_path):
+    before = folder_state(leap_hand_dir)
     result = run_grasp(
         RunRequest(
             hand=str(LEAP_HAND_SPEC),
@@ -56,15 +47,16 @@ def test_the_leap_hand_grasps_on_the_floating_base(leap_hand_dir, tmp_path):
     ).to_json()
     assert result["status"] == "ok" and _held(result), result["outcome"]["failure_reason"]
     assert "index" in result["outcome"]["touching_fingers"]
+    assert folder_state(leap_hand_dir) == before  # the run read the vendor files in place
 
 
 @pytest.mark.parametrize("hand", ["barrett", "karlsruhe"])
 def test_the_panda_carries_a_hand_through_a_held_grasp(panda_description_dir, tmp_path, hand):
-    before = _digests(panda_description_dir)
+    before = folder_state(panda_description_dir)
     result = run_grasp(
         RunRequest(hand=hand, arm=str(PANDA_SPEC), out_root=str(tmp_path), record=False),
         default_registry(),
     ).to_json()
     assert result["status"] == "ok" and _held(result), result["outcome"]["failure_reason"]
     assert result["plan"]["approach"] == "side"
-    assert _digests(panda_description_dir) == before
+    assert folder_state(panda_description_dir) == before

@@ -14,11 +14,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 import sapien
-from conftest import THIRD_PARTY
+from conftest import THIRD_PARTY, folder_state
 from graspframe_sapien.backend import SapienBackend
 from graspframe_sapien.scene_objects import MAX_COOKING_CHANGE, cooking_change
 from graspframe_ycb.plugin import YCB_DIR_ENV, YCB_OBJECTS, ycb_objects
 
+from graspframe import mesh_geometry as mesh_geometry_module
+from graspframe.cache import CACHE_ENV
 from graspframe.defaults import SCENE_OBJECT_XY, TABLE_HEIGHT
 from graspframe.hal import WorldConfig
 from graspframe.mesh_geometry import display_mesh
@@ -57,7 +59,13 @@ NOT_HELD = {
 
 
 @pytest.fixture(scope="module")
-def objects():
+def scans_as_shipped() -> dict[str, str]:
+    """The scans' folder before this module loads anything from it."""
+    return folder_state(YCB_DIR)
+
+
+@pytest.fixture(scope="module")
+def objects(scans_as_shipped):
     found = {obj.name.removeprefix("ycb_"): obj for obj in ycb_objects(YCB_DIR)}
     assert set(found) == set(YCB_OBJECTS)
     return found
@@ -93,6 +101,18 @@ def test_each_object_loads_with_its_mass_and_its_centroid_inside_it(objects, fol
     assert geometry.upright_as_scanned
     assert np.allclose(geometry.T_mesh_object[:3, :3], np.eye(3))
     assert scan.bounds[0, 2] == pytest.approx(-obj.half_height, abs=0.002)
+
+
+def test_loading_writes_nothing_beside_the_scans(monkeypatch, tmp_path):
+    # A cold cache (on disk and in this process): the tennis ball's pieces, volume and
+    # rest pose are computed now, and written to the cache, not beside the scan.
+    monkeypatch.setenv(CACHE_ENV, str(tmp_path))
+    mesh_geometry_module._geometry.cache_clear()
+    before = folder_state(YCB_DIR)
+    ball = {obj.name: obj for obj in ycb_objects(YCB_DIR)}["ycb_056_tennis_ball"]
+    display_mesh(ball.mesh_geometry(), ball.mesh_path, ball.scale)
+    assert any(tmp_path.rglob("*.obj"))  # the pieces were built, not read from a cache
+    assert folder_state(YCB_DIR) == before
 
 
 def test_the_soup_cans_centroid_is_its_centre(objects):
@@ -162,8 +182,10 @@ def _held(obj, hand_name: str):
         for f in sorted(HELD_BY)
     ],
 )
-def test_each_object_is_held_in_its_documented_grasp(objects, folder):
+def test_each_object_is_held_in_its_documented_grasp(objects, folder, scans_as_shipped):
     outcome = _held(objects[folder], HELD_BY[folder])
+    # Loaded and grasped, the scans are byte for byte as shipped, with nothing beside them.
+    assert folder_state(YCB_DIR) == scans_as_shipped
     assert outcome.held_after_lift, outcome.failure_reason
     assert outcome.held_under_disturbance, outcome.failure_reason
     assert len(outcome.touching_fingers) >= 2

@@ -263,7 +263,9 @@ class HandDescription:
     joints: every actuated joint, followers of in-model couplings excluded.
     couplings: joint couplings (see `Coupling`).
     palm_frame: a link whose frame is the palm frame: origin at the centre of the palm
-        surface, +z out of the palm towards the object, +x towards the fingertips.
+        surface, +z out of the palm towards the object, +x towards the fingertips (for
+        fingers that stand out of the palm along +z, as a gripper's jaws: along the
+        direction they close on, the jaw stroke).
     palm_sensor_link: the link whose contacts count as "palm touches" for the volar
         strategy.
     real_fingers: real finger name -> links; must include PALM.

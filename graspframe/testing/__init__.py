@@ -27,6 +27,7 @@ from graspframe.testing.contracts import (
 )
 from graspframe.testing.grasp_checks import closing_problems, hand_alone_grasp, hold_problems
 from graspframe.testing.kinematic_backend import KinematicBackend
+from graspframe.testing.self_collision import self_collision_problems
 
 
 def _assert_none(what: str, problems: list[str]) -> None:
@@ -37,6 +38,12 @@ def _assert_none(what: str, problems: list[str]) -> None:
 
 def assert_hand_contract(hand: HandDescription) -> None:
     _assert_none(f"hand {hand.name!r}", hand_problems(hand))
+
+
+def assert_hand_free_of_self_collision(hand: HandDescription) -> None:
+    """No two links overlap in any preshape's open posture, except links that meet by
+    design (adjacent, or fixed to each other)."""
+    _assert_none(f"hand {hand.name!r}", self_collision_problems(hand))
 
 
 def assert_hand_closes(hand: HandDescription) -> None:
@@ -73,6 +80,7 @@ __all__ = [
     "assert_classifier_contract",
     "assert_hand_closes",
     "assert_hand_contract",
+    "assert_hand_free_of_self_collision",
     "assert_hand_holds_design_objects",
     "backend_problems",
     "classifier_problems",
@@ -82,4 +90,5 @@ __all__ = [
     "hand_problems",
     "hold_problems",
     "palm_direction_problems",
+    "self_collision_problems",
 ]

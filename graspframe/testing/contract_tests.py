@@ -16,6 +16,7 @@ from graspframe.testing import (
     assert_classifier_contract,
     assert_hand_closes,
     assert_hand_contract,
+    assert_hand_free_of_self_collision,
     assert_hand_holds_design_objects,
 )
 
@@ -32,6 +33,11 @@ def test_no_plugin_failed_to_load() -> None:
 @pytest.mark.parametrize("hand_name", _names("hand"))
 def test_hand_contract(hand_name: str) -> None:
     assert_hand_contract(default_registry().get_hand(hand_name))
+
+
+@pytest.mark.parametrize("hand_name", _names("hand"))
+def test_hand_open_preshapes_are_free_of_self_collision(hand_name: str) -> None:
+    assert_hand_free_of_self_collision(default_registry().get_hand(hand_name))
 
 
 # The grasp checks are for robot hands: the human reference hand's postures are checked

@@ -58,11 +58,12 @@ def jaws_at(opening: float) -> dict[str, float]:
 # Preshapes. Closed targets are "fully closed": on an object the jaws stop at its surface
 # and the drive squeezes with stiffness * (remaining travel), up to the force limit.
 # delta [m]: fingertip height above the palm surface in the open preshape. The jaws slide
-# parallel to the palm, so it is the jaw length in both; a test checks it by forward
-# kinematics. The design object of a preshape is what it is shaped for, where it sits in
-# the palm frame when held: between the jaw pads, 20 mm below their tips (the planner
-# puts every object's centroid there; graspframe check-hand tests the gripper alone holds
-# it). Its axis lies across the stroke (palm y), so the jaws close on its sides.
+# parallel to the palm, so it is the same in both: the 53 mm jaw plus the 2 mm it clears
+# the palm pad by; a test checks it by forward kinematics. The design object of a
+# preshape is what it is shaped for, where it sits in the palm frame when held: between
+# the jaw pads, 20 mm below their tips (the planner puts every object's centroid there;
+# graspframe check-hand tests the gripper alone holds it). Its axis lies across the
+# stroke (palm y), so the jaws close on its sides.
 DELTA = 0.055
 GRASP_CENTER = (0.0, 0.0, DELTA - 0.02)
 ACROSS_THE_STROKE = (0.0, 1.0, 0.0)

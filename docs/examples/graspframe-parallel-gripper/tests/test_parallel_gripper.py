@@ -15,6 +15,7 @@ from graspframe.robot_model import CollisionModel
 from graspframe.testing import (
     assert_hand_closes,
     assert_hand_contract,
+    assert_hand_free_of_self_collision,
     assert_hand_holds_design_objects,
 )
 from graspframe.transforms import inv_T, make_T
@@ -32,6 +33,19 @@ def test_the_installed_plugin_registers_the_hand():
     registry = default_registry()
     assert not [p.name for p in registry.failures]
     assert registry.get_hand("parallel_gripper") is HAND
+
+
+def test_the_open_preshapes_are_free_of_self_collision():
+    assert_hand_free_of_self_collision(HAND)
+
+
+@pytest.mark.parametrize("name", sorted(HAND.preshapes))
+def test_only_the_jaws_meet_when_closed_on_nothing(name):
+    # The jaws slide 2 mm above the palm pad: closed on nothing, their inner faces meet
+    # (by design) and nothing else touches.
+    model = CollisionModel(HAND.urdf())
+    model.place(dict(HAND.preshape(name).closed_q))
+    assert model.colliding_links() == [("pg_left_jaw", "pg_right_jaw")]
 
 
 def fingertip_height(q_by_joint: dict[str, float]) -> float:
