@@ -38,6 +38,7 @@ from graspframe.testing.grasp_checks import (
     HoldTrial,
     closing_gaps,
     closing_problems,
+    hold_limit,
     hold_measures,
     hold_trials,
 )
@@ -113,13 +114,19 @@ def _closing_check(hand: HandDescription, pictures: Path | None) -> CheckResult:
         )
         result.measured.append(f"{preshape.name}: {gaps}")
         if pictures is not None and preshape.design_object is not None:
-            path = _draw_closing(pictures, hand, preshape)
+            caption = (
+                f"{hand.name} {preshape.name}: closed around its design object without "
+                "physics (each finger stops where it first touches it)\n"
+                f"fingertip gaps closing in free space (no object), open -> closed: {gaps}"
+            )
+            path = _draw_closing(pictures / f"{preshape.name}_closing.png", hand, preshape, caption)
             result.measured.append(f"  picture: {path}")
     return result
 
 
-def _draw_closing(folder: Path, hand: HandDescription, preshape: HandPreshape) -> Path:
-    """The preshape closed kinematically around its design object, in the palm frame."""
+def _draw_closing(path: Path, hand: HandDescription, preshape: HandPreshape, caption: str) -> Path:
+    """The preshape closed kinematically around its design object, in the palm frame, to
+    `path`, captioned `caption`."""
     import numpy as np
 
     from graspframe.pictures.hand_grasp import draw_hand_grasp
@@ -135,13 +142,39 @@ def _draw_closing(folder: Path, hand: HandDescription, preshape: HandPreshape) -
         make_T(R_object_palm, -R_object_palm @ np.asarray(preshape.grasp_center_palm))
     )
     closed = closing_configurations(hand, preshape, obj, T_palm_object)[-1]
-    make_folder(folder, "pictures folder")
-    caption = (
-        f"{hand.name} {preshape.name}: closed around its design object without physics "
-        "(each finger stops where it first touches it)"
-    )
-    path = folder / f"{preshape.name}_closing.png"
+    make_folder(path.parent, "pictures folder")
     return draw_hand_grasp(path, hand, closed, obj, T_palm_object, np.zeros((0, 3)), [], caption)
+
+
+def _posed_pictures(hand: HandDescription, folder: Path) -> list[str]:
+    """For a description that failed its check: each preshape still drawn closed around
+    its design object (posed, no physics; nothing else can run) to see what is wrong, or
+    why it cannot be drawn: one line each, or one line when the model does not load."""
+    from graspframe.errors import GraspframeError
+
+    try:
+        hand.urdf()
+    except GraspframeError as exc:
+        return [f"no pictures: the model does not load ({exc})"]
+    lines = []
+    for name, preshape in hand.preshapes.items():
+        if preshape.design_object is None:
+            lines.append(f"{name}: no picture (it declares no design object)")
+            continue
+        caption = (
+            f"{hand.name} {name}: posed closed around its design object, without physics; "
+            "the description check failed (see its problems)\n"
+            "the palm +z (red arrow) must point out of the palm, at the object"
+        )
+        try:
+            path = _draw_closing(folder / f"{name}_closing.png", hand, preshape, caption)
+        except (GraspframeError, KeyError, ValueError) as exc:
+            lines.append(f"{name}: no picture, it cannot be posed ({exc})")
+        else:
+            lines.append(
+                f"{name}: posed closed around its design object (no physics), picture: {path}"
+            )
+    return lines
 
 
 def _hold_check(
@@ -162,9 +195,13 @@ def _hold_check(
         if pictures is not None and trial.moments:
             path = _draw_trial(pictures, hand, trial)
             result.measured.append(f"  picture: {path}")
+        elif pictures is not None:
+            path = _draw_posed_trial(pictures, hand, trial)
+            result.measured.append(f"  picture (posed, nothing was recorded): {path}")
         if not trial.held:
             result.problems.append(
-                f"preshape {trial.preshape!r} ({trial.grasp.value}): {trial.outcome.failure_reason}"
+                f"preshape {trial.preshape!r} ({trial.grasp.value}): "
+                f"{trial.outcome.failure_reason}; limited by: {hold_limit(trial)}"
             )
     return result
 
@@ -195,6 +232,18 @@ def _draw_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> Path:
     )
 
 
+def _draw_posed_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> Path:
+    """A trial that recorded no moment (its approach aborted): its preshape posed closed
+    around the design object, the reason in the title."""
+    caption = (
+        f"{hand.name} alone, {trial.preshape} ({trial.grasp.value}) on its design object; "
+        f"not held: {trial.outcome.failure_reason}\nno moment of the trial was recorded: "
+        "the preshape posed closed around its design object, without physics"
+    )
+    path = folder / f"{trial.preshape}_{trial.grasp.value}.png"
+    return _draw_closing(path, hand, hand.preshape(trial.preshape), caption)
+
+
 def check_hand_report(
     hand: HandDescription,
     backend: Backend | None = None,
@@ -206,6 +255,8 @@ def check_hand_report(
     `pictures` folder when one is given)."""
     checks = [_description_check(hand)]
     robot_hand = hand.name != HUMAN_HAND
+    if robot_hand and pictures is not None and not checks[0].passed:
+        checks[0].measured += _posed_pictures(hand, pictures)
     reason = "the human hand's postures are checked by the reference procedure"
     if not checks[-1].passed:
         reason = "the description check failed"

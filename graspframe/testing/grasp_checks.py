@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from graspframe.defaults import DISTURBANCE_FRACTION
 from graspframe.grasps import PALM, HumanGrasp
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.drivers import Backend, WorldConfig
@@ -279,18 +280,16 @@ def hold_measures(trial: HoldTrial) -> list[str]:
         )
     if trial.held:
         return lines
-    return lines + _limits(trial, counts)
+    return lines + _limits(trial)
 
 
-def _limits(trial: HoldTrial, counts: dict[str, int]) -> list[str]:
+def _limits(trial: HoldTrial) -> list[str]:
     """Why a hold may have failed: fingers that never touched, squeeze against weight."""
     lines = []
-    missing = [f for f in trial.fingers if f not in counts]
+    missing = _never_touched(trial)
     if missing:
         lines.append(f"never touched the object: {', '.join(missing)}")
-    contacts = trial.outcome.contacts
-    squeeze = sum(abs(float(np.dot(c.f, c.n))) for c in contacts)
-    weight = trial.obj.mass * GRAVITY
+    squeeze, weight = _squeeze(trial), trial.obj.mass * GRAVITY
     friction = trial.obj.static_friction
     lines.append(
         f"squeeze: {squeeze:.1f} N of normal force at the hold; with the object's friction "
@@ -298,6 +297,40 @@ def _limits(trial: HoldTrial, counts: dict[str, int]) -> list[str]:
         f"{weight:.1f} N weight (plus half of it when pushed)"
     )
     return lines
+
+
+def _never_touched(trial: HoldTrial) -> list[str]:
+    """The real fingers meant to touch the object that had no contact at the hold."""
+    touching = {contact.real_finger for contact in trial.outcome.contacts}
+    return [finger for finger in trial.fingers if finger not in touching]
+
+
+def _squeeze(trial: HoldTrial) -> float:
+    """[N] the normal force of every contact at the hold, summed."""
+    return sum(abs(float(np.dot(c.f, c.n))) for c in trial.outcome.contacts)
+
+
+def hold_limit(trial: HoldTrial) -> str:
+    """What limited a failed hold, in a few words: the fingers that never touched, and
+    the friction of the squeeze when it is below the weight and the pushes (half the
+    weight); else that neither did."""
+    limits = []
+    missing = _never_touched(trial)
+    if missing:
+        limits.append(f"{', '.join(missing)} never touched the object")
+    squeeze, weight = _squeeze(trial), trial.obj.mass * GRAVITY
+    friction = trial.obj.static_friction
+    pushed = (1.0 + DISTURBANCE_FRACTION) * weight  # the pushes come on top of the weight
+    if friction * squeeze < pushed:
+        limits.append(
+            f"squeeze {squeeze:.1f} N x friction {friction:g} = {friction * squeeze:.1f} N, "
+            f"below the {weight:.1f} N weight plus {100 * DISTURBANCE_FRACTION:.0f} % of it "
+            "(the pushes)"
+        )
+    return "; ".join(limits) or (
+        "neither the fingers (all touched) nor the squeeze (its friction exceeds the "
+        "weight and the pushes): see the picture"
+    )
 
 
 def hold_problems(hand: HandDescription, backend: Backend) -> list[str]:
