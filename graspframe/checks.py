@@ -5,20 +5,26 @@ Three checks, in order, each reported with its verdict and what it measured:
 
 1. the description and its model (`graspframe.testing.hand_problems`: joints and limits
    against the model, real fingers, couplings, preshapes within limits, the mapping of
-   all six grasps, the palm frame's +z pointing out of the palm);
+   all six grasps, the palm frame's +z pointing out of the palm); when it fails, each
+   preshape is still drawn posed closed around its design object (no physics) where the
+   model loads, to see what is wrong (a palm frame turned over shows at once);
 2. closing each preshape in free space brings its opposed fingers together
    (`grasp_checks.closing_gaps`): the gap of every pair, open and closed; and a picture
    of each preshape closed kinematically around its design object (every finger stops
-   where it first touches it: `hand_geometry.closing_configurations`), to see where the
-   fingers land before any physics runs;
+   where it first touches it: `hand_geometry.closing_configurations`), with those gaps
+   in its caption, to see where the fingers land before any physics runs;
 3. unless asked not to, the hand alone (on the floating base, no arm) holds each
    preshape's design object through the lift and the pushes of a real run, in the
    registered physics backend (`grasp_checks.hold_trials`): contacts per real finger,
-   the object's motion in the hand and, for a failed hold, what limited it; a picture of
-   every trial, held or not, is written to the pictures folder.
+   the object's motion in the hand and, for a failed hold, what limited it
+   (`grasp_checks.hold_limit`: the fingers that never touched, the squeeze times the
+   friction against the weight); a picture of every trial, held or not, is written to
+   the pictures folder (a trial that recorded no moment, its approach aborted: its
+   preshape posed around the design object, the reason in the title).
 
 A check runs only when the ones before it passed (a hand whose model does not load
-cannot be closed). The grasp checks are for robot hands: the human reference hand's
+cannot be closed). Every picture of a preshape is `NAME_closing.png`, of a trial
+`PRESHAPE_GRASP.png`. The grasp checks are for robot hands: the human reference hand's
 postures are checked by the reference procedure (graspframe/strategy/human_reference.py).
 """
 

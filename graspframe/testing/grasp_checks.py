@@ -12,6 +12,8 @@ Two checks every hand gets (built-in or third-party; `graspframe check-hand` run
 - `hold_problems`: the hand alone, on the floating base (no arm), encloses and holds
   each preshape's design object: it is planned, approached, closed, lifted 5 cm and
   pushed exactly as a run does (`held` in docs/method.md), in a physics backend.
+  `hold_trials` keeps each trial for check-hand, `hold_measures` says what it measured
+  and `hold_limit` what limited a failed one.
 """
 
 from __future__ import annotations
