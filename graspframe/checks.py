@@ -19,8 +19,8 @@ Three checks, in order, each reported with its verdict and what it measured:
    the object's motion in the hand and, for a failed hold, what limited it
    (`grasp_checks.hold_limit`: the fingers that never touched, the squeeze times the
    friction against the weight); a picture of every trial, held or not, is written to
-   the pictures folder (a trial that recorded no moment, its approach aborted: its
-   preshape posed around the design object, the reason in the title).
+   the pictures folder (a trial that recorded no moment, no plan found or its approach
+   aborted: its preshape posed around the design object, the reason in the title).
 
 A check runs only when the ones before it passed (a hand whose model does not load
 cannot be closed). Every picture of a preshape is `NAME_closing.png`, of a trial
@@ -192,7 +192,7 @@ def _hold_check(
     )
     missing = [name for name, p in hand.preshapes.items() if p.design_object is None]
     result.problems += [f"preshape {name!r} declares no design object" for name in missing]
-    trials = hold_trials(hand, backend, progress=progress)
+    trials = hold_trials(hand, backend, progress=progress, keep_unplanned=True)
     held = sum(trial.held for trial in trials)
     result.measured.append(f"{held} of {len(trials)} held")
     for trial in trials:
@@ -225,6 +225,7 @@ def _trial_title(trial: HoldTrial) -> str:
 def _draw_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> Path:
     from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
 
+    assert trial.checked is not None  # a trial with moments ran a plan
     robot = trial.checked.robot
     scene = scene_of_robot(robot.model, trial.checked.T_world_base, hand, trial.obj, 0.0)
     frames = [Snapshot.from_moment(m, robot.arm.joint_names) for m in trial.moments]
@@ -239,8 +240,8 @@ def _draw_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> Path:
 
 
 def _draw_posed_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> Path:
-    """A trial that recorded no moment (its approach aborted): its preshape posed closed
-    around the design object, the reason in the title."""
+    """A trial that recorded no moment (no plan, or its approach aborted): its preshape
+    posed closed around the design object, the reason in the title."""
     caption = (
         f"{hand.name} alone, {trial.preshape} ({trial.grasp.value}) on its design object; "
         f"not held: {trial.outcome.failure_reason}\nno moment of the trial was recorded: "

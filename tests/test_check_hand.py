@@ -17,7 +17,8 @@ from graspframe.hal import DesignObject, DriveGains, HandDescription, HandPresha
 from graspframe.plugins import hookimpl
 from graspframe.registry import Registry
 from graspframe.strategy.execution import GraspOutcome, Grip
-from graspframe.testing import hand_problems
+from graspframe.strategy.planner import PlanningError
+from graspframe.testing import grasp_checks, hand_problems
 from graspframe.testing.grasp_checks import HoldTrial, design_object
 
 from fakes import FAKE_HAND_URDF, make_fake_hand
@@ -243,4 +244,28 @@ def test_a_trial_that_recorded_nothing_is_drawn_posed(fake_hand_urdf, tmp_path, 
     assert f"  picture (posed, nothing was recorded): {picture}" in "\n".join(lines)
     problem = next(line for line in lines if "problem: preshape 'pinch'" in line)
     assert "the approach left the workspace" in problem
-    assert "limited by: finger, thumb never touched the object" in problem, problem
+    assert problem.endswith("; limited by: the trial stopped before the hold"), problem
+
+
+def test_a_grasp_with_no_plan_is_a_failed_trial_drawn_posed(fake_hand_urdf, tmp_path, monkeypatch):
+    hand = _hand_with_a_rod(fake_hand_urdf, "rod_hand")
+
+    def no_plan(*_args, **_kwargs):
+        raise PlanningError("no collision-free path for the free rod_hand hand: the table")
+
+    monkeypatch.setattr(grasp_checks, "_hand_alone", no_plan)
+
+    passed, lines = checks.check_hand_report(hand, _NamedBackend(), tmp_path)  # type: ignore[arg-type]
+
+    assert not passed
+    assert "     0 of 2 held" in lines, lines
+    problems = [line for line in lines if "problem: preshape 'pinch'" in line]
+    assert len(problems) == 2 and all("no plan: no collision-free path" in p for p in problems)
+    assert {p.name for p in tmp_path.glob("*.png")} == {
+        "pinch_closing.png",
+        "pinch_large_diameter.png",
+        "pinch_abducted_thumb.png",
+    }
+    # Without asking, the planner's error is raised as before (hold_problems, the tests).
+    with pytest.raises(PlanningError):
+        grasp_checks.hold_trials(hand, _NamedBackend())  # type: ignore[arg-type]

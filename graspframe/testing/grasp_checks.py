@@ -217,7 +217,8 @@ class HoldTrial:
     """The hand alone grasping a preshape's design object: what was grasped, the real
     fingers meant to touch it (its opposed pairs', else every finger), what happened
     (`outcome`), and for pictures its moments (`moments`) and
-    the plan on the floating base it ran (`checked`: a CheckedPlan)."""
+    the plan on the floating base it ran (`checked`: a CheckedPlan; None when no plan
+    was found)."""
 
     grasp: HumanGrasp
     preshape: str
@@ -225,7 +226,7 @@ class HoldTrial:
     fingers: tuple[str, ...]
     outcome: GraspOutcome
     moments: tuple[Moment, ...]
-    checked: CheckedPlan
+    checked: CheckedPlan | None
 
     @property
     def held(self) -> bool:
@@ -236,9 +237,16 @@ def hold_trials(
     hand: HandDescription,
     backend: Backend,
     progress: Callable[[str], None] = lambda _message: None,
+    keep_unplanned: bool = False,
 ) -> list[HoldTrial]:
     """One hand-alone grasp of its design object per preshape and volar/non-volar use of
-    it (in the order of the grasp map); `progress` hears of each trial as it starts."""
+    it (in the order of the grasp map); `progress` hears of each trial as it starts.
+
+    keep_unplanned: a grasp the planner finds no plan for is a trial that was not held
+    (aborted, no moments, no plan) instead of the PlanningError it raises by default.
+    """
+    from graspframe.strategy.planner import PlanningError
+
     trials = []
     tried = set()
     for grasp, preshape_name in hand.grasp_map.items():
@@ -249,11 +257,29 @@ def hold_trials(
         tried.add(key)
         obj = design_object(preshape)
         progress(f"{preshape_name} ({grasp.value}): the hand alone on its design object")
-        outcome, moments, checked = _hand_alone(hand, grasp, backend, obj)
+        try:
+            outcome, moments, checked = _hand_alone(hand, grasp, backend, obj)
+        except PlanningError as exc:
+            if not keep_unplanned:
+                raise
+            outcome, moments, checked = _unplanned(obj, str(exc)), (), None
         fingers = {f for pair in preshape.opposed for f in pair} or set(hand.real_fingers)
         meant = tuple(f for f in hand.real_fingers if f in fingers and f != PALM)
         trials.append(HoldTrial(grasp, preshape_name, obj, meant, outcome, moments, checked))
     return trials
+
+
+def _unplanned(obj: ObjectDescription, reason: str) -> GraspOutcome:
+    """The outcome of a grasp that found no plan: aborted, the object where it stood."""
+    from graspframe.strategy.execution import GraspOutcome, Grip
+
+    return GraspOutcome(
+        contacts=[],
+        T_world_object_at_hold=make_T(p=[0.0, 0.0, obj.half_height]),
+        grip=Grip(),
+        held=None,
+        aborted=f"no plan: {reason}",
+    )
 
 
 GRAVITY = 9.81  # [m/s^2]
@@ -280,7 +306,7 @@ def hold_measures(trial: HoldTrial) -> list[str]:
         lines.append(
             f"pushes: the largest motion in the hand was {motion.describe()} ({direction})"
         )
-    if trial.held:
+    if trial.held or trial.outcome.aborted:  # an aborted trial: its reason says it all
         return lines
     return lines + _limits(trial)
 
@@ -315,7 +341,10 @@ def _squeeze(trial: HoldTrial) -> float:
 def hold_limit(trial: HoldTrial) -> str:
     """What limited a failed hold, in a few words: the fingers that never touched, and
     the friction of the squeeze when it is below the weight and the pushes (half the
-    weight); else that neither did."""
+    weight); else that neither did; for an aborted trial, that it stopped before the
+    hold (its reason says why)."""
+    if trial.outcome.aborted:
+        return "the trial stopped before the hold"
     limits = []
     missing = _never_touched(trial)
     if missing:
