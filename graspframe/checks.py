@@ -7,20 +7,27 @@ Three checks, in order, each reported with its verdict and what it measured:
    against the model, real fingers, couplings, preshapes within limits, the mapping of
    all six grasps, the palm frame's +z pointing out of the palm); with it, the links
    that overlap in each preshape's open posture (`self_collision.open_preshape_collisions`),
-   reported but not failed here: the simulator runs without self-collision;
+   reported but not failed here: the simulator runs without self-collision; when it
+   fails, each preshape is still drawn posed closed around its design object (no
+   physics) where the model loads, to see what is wrong (a palm frame turned over shows
+   at once);
 2. closing each preshape in free space brings its opposed fingers together
    (`grasp_checks.closing_gaps`): the gap of every pair, open and closed; and a picture
    of each preshape closed kinematically around its design object (every finger stops
-   where it first touches it: `hand_geometry.closing_configurations`), to see where the
-   fingers land before any physics runs;
+   where it first touches it: `hand_geometry.closing_configurations`), with those gaps
+   in its caption, to see where the fingers land before any physics runs;
 3. unless asked not to, the hand alone (on the floating base, no arm) holds each
    preshape's design object through the lift and the pushes of a real run, in the
    registered physics backend (`grasp_checks.hold_trials`): contacts per real finger,
-   the object's motion in the hand and, for a failed hold, what limited it; a picture of
-   every trial, held or not, is written to the pictures folder.
+   the object's motion in the hand and, for a failed hold, what limited it
+   (`grasp_checks.hold_limit`: the fingers that never touched, the squeeze times the
+   friction against the weight); a picture of every trial, held or not, is written to
+   the pictures folder (a trial that recorded no moment, no plan found or its approach
+   aborted: its preshape posed around the design object, the reason in the title).
 
 A check runs only when the ones before it passed (a hand whose model does not load
-cannot be closed). The grasp checks are for robot hands: the human reference hand's
+cannot be closed). Every picture of a preshape is `NAME_closing.png`, of a trial
+`PRESHAPE_GRASP.png`. The grasp checks are for robot hands: the human reference hand's
 postures are checked by the reference procedure (graspframe/strategy/human_reference.py).
 """
 
@@ -41,6 +48,7 @@ from graspframe.testing.grasp_checks import (
     HoldTrial,
     closing_gaps,
     closing_problems,
+    hold_limit,
     hold_measures,
     hold_trials,
 )
@@ -135,13 +143,19 @@ def _closing_check(hand: HandDescription, pictures: Path | None) -> CheckResult:
         )
         result.measured.append(f"{preshape.name}: {gaps}")
         if pictures is not None and preshape.design_object is not None:
-            path = _draw_closing(pictures, hand, preshape)
+            caption = (
+                f"{hand.name} {preshape.name}: closed around its design object without "
+                "physics (each finger stops where it first touches it)\n"
+                f"fingertip gaps closing in free space (no object), open -> closed: {gaps}"
+            )
+            path = _draw_closing(pictures / f"{preshape.name}_closing.png", hand, preshape, caption)
             result.measured.append(f"  picture: {path}")
     return result
 
 
-def _draw_closing(folder: Path, hand: HandDescription, preshape: HandPreshape) -> Path:
-    """The preshape closed kinematically around its design object, in the palm frame."""
+def _draw_closing(path: Path, hand: HandDescription, preshape: HandPreshape, caption: str) -> Path:
+    """The preshape closed kinematically around its design object, in the palm frame, to
+    `path`, captioned `caption`."""
     import numpy as np
 
     from graspframe.pictures.hand_grasp import draw_hand_grasp
@@ -157,13 +171,39 @@ def _draw_closing(folder: Path, hand: HandDescription, preshape: HandPreshape) -
         make_T(R_object_palm, -R_object_palm @ np.asarray(preshape.grasp_center_palm))
     )
     closed = closing_configurations(hand, preshape, obj, T_palm_object)[-1]
-    make_folder(folder, "pictures folder")
-    caption = (
-        f"{hand.name} {preshape.name}: closed around its design object without physics "
-        "(each finger stops where it first touches it)"
-    )
-    path = folder / f"{preshape.name}_closing.png"
+    make_folder(path.parent, "pictures folder")
     return draw_hand_grasp(path, hand, closed, obj, T_palm_object, np.zeros((0, 3)), [], caption)
+
+
+def _posed_pictures(hand: HandDescription, folder: Path) -> list[str]:
+    """For a description that failed its check: each preshape still drawn closed around
+    its design object (posed, no physics; nothing else can run) to see what is wrong, or
+    why it cannot be drawn: one line each, or one line when the model does not load."""
+    from graspframe.errors import GraspframeError
+
+    try:
+        hand.urdf()
+    except GraspframeError as exc:
+        return [f"no pictures: the model does not load ({exc})"]
+    lines = []
+    for name, preshape in hand.preshapes.items():
+        if preshape.design_object is None:
+            lines.append(f"{name}: no picture (it declares no design object)")
+            continue
+        caption = (
+            f"{hand.name} {name}: posed closed around its design object, without physics; "
+            "the description check failed (see its problems)\n"
+            "the palm +z (red arrow) must point out of the palm, at the object"
+        )
+        try:
+            path = _draw_closing(folder / f"{name}_closing.png", hand, preshape, caption)
+        except (GraspframeError, KeyError, ValueError) as exc:
+            lines.append(f"{name}: no picture, it cannot be posed ({exc})")
+        else:
+            lines.append(
+                f"{name}: posed closed around its design object (no physics), picture: {path}"
+            )
+    return lines
 
 
 def _hold_check(
@@ -175,7 +215,7 @@ def _hold_check(
     )
     missing = [name for name, p in hand.preshapes.items() if p.design_object is None]
     result.problems += [f"preshape {name!r} declares no design object" for name in missing]
-    trials = hold_trials(hand, backend, progress=progress)
+    trials = hold_trials(hand, backend, progress=progress, keep_unplanned=True)
     held = sum(trial.held for trial in trials)
     result.measured.append(f"{held} of {len(trials)} held")
     for trial in trials:
@@ -184,9 +224,13 @@ def _hold_check(
         if pictures is not None and trial.moments:
             path = _draw_trial(pictures, hand, trial)
             result.measured.append(f"  picture: {path}")
+        elif pictures is not None:
+            path = _draw_posed_trial(pictures, hand, trial)
+            result.measured.append(f"  picture (posed, nothing was recorded): {path}")
         if not trial.held:
             result.problems.append(
-                f"preshape {trial.preshape!r} ({trial.grasp.value}): {trial.outcome.failure_reason}"
+                f"preshape {trial.preshape!r} ({trial.grasp.value}): "
+                f"{trial.outcome.failure_reason}; limited by: {hold_limit(trial)}"
             )
     return result
 
@@ -204,6 +248,7 @@ def _trial_title(trial: HoldTrial) -> str:
 def _draw_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> Path:
     from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
 
+    assert trial.checked is not None  # a trial with moments ran a plan
     robot = trial.checked.robot
     scene = scene_of_robot(robot.model, trial.checked.T_world_base, hand, trial.obj, 0.0)
     frames = [Snapshot.from_moment(m, robot.arm.joint_names) for m in trial.moments]
@@ -217,6 +262,18 @@ def _draw_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> Path:
     )
 
 
+def _draw_posed_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> Path:
+    """A trial that recorded no moment (no plan, or its approach aborted): its preshape
+    posed closed around the design object, the reason in the title."""
+    caption = (
+        f"{hand.name} alone, {trial.preshape} ({trial.grasp.value}) on its design object; "
+        f"not held: {trial.outcome.failure_reason}\nno moment of the trial was recorded: "
+        "the preshape posed closed around its design object, without physics"
+    )
+    path = folder / f"{trial.preshape}_{trial.grasp.value}.png"
+    return _draw_closing(path, hand, hand.preshape(trial.preshape), caption)
+
+
 def check_hand_report(
     hand: HandDescription,
     backend: Backend | None = None,
@@ -228,6 +285,8 @@ def check_hand_report(
     `pictures` folder when one is given)."""
     checks = [_description_check(hand)]
     robot_hand = hand.name != HUMAN_HAND
+    if robot_hand and pictures is not None and not checks[0].passed:
+        checks[0].measured += _posed_pictures(hand, pictures)
     reason = "the human hand's postures are checked by the reference procedure"
     if not checks[-1].passed:
         reason = "the description check failed"

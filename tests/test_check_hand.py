@@ -2,18 +2,24 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
+import numpy as np
 import pytest
 
+from graspframe import checks
 from graspframe import registry as registry_module
 from graspframe.commands.check_hand import check_hand_command
 from graspframe.errors import UnknownNameError
 from graspframe.grasps import PALM, HumanGrasp
-from graspframe.hal import HandDescription, HandPreshape, JointSpec
+from graspframe.hal import DesignObject, DriveGains, HandDescription, HandPreshape, JointSpec
 from graspframe.plugins import hookimpl
 from graspframe.registry import Registry
-from graspframe.testing import hand_problems
+from graspframe.strategy.execution import GraspOutcome, Grip
+from graspframe.strategy.planner import PlanningError
+from graspframe.testing import grasp_checks, hand_problems
+from graspframe.testing.grasp_checks import HoldTrial, design_object
 
 from fakes import FAKE_HAND_URDF, make_fake_hand
 
@@ -141,3 +147,125 @@ def test_one_problem_is_counted_in_the_singular(fake_hand_urdf, capsys):
     lines = capsys.readouterr().out.splitlines()
     assert lines[1].startswith("1. the description against its model")
     assert lines[1].endswith(": FAILED (1 problem)"), lines[1]
+
+
+# A rod lying across the fake hand's palm, between its finger and its thumb (which close
+# about palm x): the fake hand, at full strength, holds it in both of its trials.
+ROD = DesignObject("cylinder", (0.0, 0.0, 0.035), 0.015, (1.0, 0.0, 0.0), 0.1)
+WEAK_DRIVE = DriveGains(stiffness=5.0, damping=0.5, force_limit=0.002)  # [N m]: no squeeze
+
+
+def _hand_with_a_rod(model_path: Path, name: str, **overrides) -> HandDescription:
+    """The fake hand whose pinch is shaped for ROD (one trial per volar/non-volar use)."""
+    plain = make_fake_hand(model_path).preshapes["pinch"]
+    pinch = dataclasses.replace(plain, design_object=ROD, opposed=(("finger", "thumb"),))
+    return make_fake_hand(model_path, name=name, preshapes={"pinch": pinch}, **overrides)
+
+
+def test_a_hand_too_weak_to_hold_fails_saying_what_limited_it(fake_hand_urdf, tmp_path, capsys):
+    import graspframe_sapien.plugin
+
+    hand = _hand_with_a_rod(fake_hand_urdf, "weak_hand", drive=WEAK_DRIVE)
+    registry = _registry_with(hand)
+    registry.add_plugin("sapien", graspframe_sapien.plugin)  # real physics
+    pictures = tmp_path / "pictures"
+
+    assert check_hand_command("weak_hand", registry, pictures=pictures) == 1
+
+    out = capsys.readouterr().out
+    assert "3. the hand alone holds each preshape's design object" in out, out
+    assert "0 of 2 held" in out, out
+    problems = [line.strip() for line in out.splitlines() if "problem: " in line]
+    assert len(problems) == 2, out
+    for line in problems:  # the squeeze, times the friction, is below the weight
+        assert "limited by: squeeze" in line and "x friction 0.8" in line, line
+        assert "N weight" in line, line
+    # The closed preshape and a picture of each failed trial.
+    drawn = sorted(p.name for p in pictures.glob("*.png"))
+    assert drawn == ["pinch_abducted_thumb.png", "pinch_closing.png", "pinch_large_diameter.png"]
+
+
+def test_a_failed_description_still_draws_each_preshape(tmp_path, capsys):
+    # The mistake the docs warn about: the palm frame's +z points into the hand.
+    hand = _hand_with_a_rod(_flipped_palm_urdf(tmp_path), "flipped_hand")
+    pictures = tmp_path / "pictures"
+
+    registry = _registry_with(hand)
+    assert check_hand_command("flipped_hand", registry, hold=False, pictures=pictures) == 1
+
+    out = capsys.readouterr().out
+    assert "palm frame +z points into the hand" in out, out
+    picture = pictures / "pinch_closing.png"
+    assert picture.is_file()
+    assert f"pinch: posed closed around its design object (no physics), picture: {picture}" in out
+    assert "2. closing in free space: not run (the description check failed)" in out
+
+
+def test_a_model_that_does_not_load_is_said_in_one_line(tmp_path, capsys):
+    hand = _hand_with_a_rod(tmp_path / "missing.urdf", "lost_hand")
+    pictures = tmp_path / "pictures"
+
+    assert check_hand_command("lost_hand", _registry_with(hand), hold=False, pictures=pictures) == 1
+
+    no_pictures = [line for line in capsys.readouterr().out.splitlines() if "no pictures" in line]
+    assert len(no_pictures) == 1 and "the model does not load" in no_pictures[0], no_pictures
+    assert not list(pictures.glob("*.png"))
+
+
+class _NamedBackend:
+    name = "no-physics"
+
+
+def test_a_trial_that_recorded_nothing_is_drawn_posed(fake_hand_urdf, tmp_path, monkeypatch):
+    hand = _hand_with_a_rod(fake_hand_urdf, "rod_hand")
+    aborted = GraspOutcome(
+        contacts=[],
+        T_world_object_at_hold=np.eye(4),
+        grip=Grip(),
+        held=None,
+        aborted="the arm cannot carry out the plan: the approach left the workspace",
+    )
+    trial = HoldTrial(
+        HumanGrasp.PINCH,
+        "pinch",
+        design_object(hand.preshapes["pinch"]),
+        ("finger", "thumb"),
+        aborted,
+        moments=(),
+        checked=None,  # type: ignore[arg-type]  # not drawn: nothing was recorded
+    )
+    monkeypatch.setattr(checks, "hold_trials", lambda *_args, **_kwargs: [trial])
+
+    passed, lines = checks.check_hand_report(hand, _NamedBackend(), tmp_path)  # type: ignore[arg-type]
+
+    assert not passed
+    picture = tmp_path / "pinch_pinch.png"
+    assert picture.is_file()
+    assert f"  picture (posed, nothing was recorded): {picture}" in "\n".join(lines)
+    problem = next(line for line in lines if "problem: preshape 'pinch'" in line)
+    assert "the approach left the workspace" in problem
+    assert problem.endswith("; limited by: the trial stopped before the hold"), problem
+
+
+def test_a_grasp_with_no_plan_is_a_failed_trial_drawn_posed(fake_hand_urdf, tmp_path, monkeypatch):
+    hand = _hand_with_a_rod(fake_hand_urdf, "rod_hand")
+
+    def no_plan(*_args, **_kwargs):
+        raise PlanningError("no collision-free path for the free rod_hand hand: the table")
+
+    monkeypatch.setattr(grasp_checks, "_hand_alone", no_plan)
+
+    passed, lines = checks.check_hand_report(hand, _NamedBackend(), tmp_path)  # type: ignore[arg-type]
+
+    assert not passed
+    assert "     0 of 2 held" in lines, lines
+    problems = [line for line in lines if "problem: preshape 'pinch'" in line]
+    assert len(problems) == 2 and all("no plan: no collision-free path" in p for p in problems)
+    assert {p.name for p in tmp_path.glob("*.png")} == {
+        "pinch_closing.png",
+        "pinch_large_diameter.png",
+        "pinch_abducted_thumb.png",
+    }
+    # Without asking, the planner's error is raised as before (hold_problems, the tests).
+    with pytest.raises(PlanningError):
+        grasp_checks.hold_trials(hand, _NamedBackend())  # type: ignore[arg-type]

@@ -12,6 +12,8 @@ Two checks every hand gets (built-in or third-party; `graspframe check-hand` run
 - `hold_problems`: the hand alone, on the floating base (no arm), encloses and holds
   each preshape's design object: it is planned, approached, closed, lifted 5 cm and
   pushed exactly as a run does (`held` in docs/method.md), in a physics backend.
+  `hold_trials` keeps each trial for check-hand, `hold_measures` says what it measured
+  and `hold_limit` what limited a failed one.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from graspframe.defaults import DISTURBANCE_FRACTION
 from graspframe.grasps import PALM, HumanGrasp
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.drivers import Backend, WorldConfig
@@ -214,7 +217,8 @@ class HoldTrial:
     """The hand alone grasping a preshape's design object: what was grasped, the real
     fingers meant to touch it (its opposed pairs', else every finger), what happened
     (`outcome`), and for pictures its moments (`moments`) and
-    the plan on the floating base it ran (`checked`: a CheckedPlan)."""
+    the plan on the floating base it ran (`checked`: a CheckedPlan; None when no plan
+    was found)."""
 
     grasp: HumanGrasp
     preshape: str
@@ -222,7 +226,7 @@ class HoldTrial:
     fingers: tuple[str, ...]
     outcome: GraspOutcome
     moments: tuple[Moment, ...]
-    checked: CheckedPlan
+    checked: CheckedPlan | None
 
     @property
     def held(self) -> bool:
@@ -233,9 +237,16 @@ def hold_trials(
     hand: HandDescription,
     backend: Backend,
     progress: Callable[[str], None] = lambda _message: None,
+    keep_unplanned: bool = False,
 ) -> list[HoldTrial]:
     """One hand-alone grasp of its design object per preshape and volar/non-volar use of
-    it (in the order of the grasp map); `progress` hears of each trial as it starts."""
+    it (in the order of the grasp map); `progress` hears of each trial as it starts.
+
+    keep_unplanned: a grasp the planner finds no plan for is a trial that was not held
+    (aborted, no moments, no plan) instead of the PlanningError it raises by default.
+    """
+    from graspframe.strategy.planner import PlanningError
+
     trials = []
     tried = set()
     for grasp, preshape_name in hand.grasp_map.items():
@@ -246,11 +257,29 @@ def hold_trials(
         tried.add(key)
         obj = design_object(preshape)
         progress(f"{preshape_name} ({grasp.value}): the hand alone on its design object")
-        outcome, moments, checked = _hand_alone(hand, grasp, backend, obj)
+        try:
+            outcome, moments, checked = _hand_alone(hand, grasp, backend, obj)
+        except PlanningError as exc:
+            if not keep_unplanned:
+                raise
+            outcome, moments, checked = _unplanned(obj, str(exc)), (), None
         fingers = {f for pair in preshape.opposed for f in pair} or set(hand.real_fingers)
         meant = tuple(f for f in hand.real_fingers if f in fingers and f != PALM)
         trials.append(HoldTrial(grasp, preshape_name, obj, meant, outcome, moments, checked))
     return trials
+
+
+def _unplanned(obj: ObjectDescription, reason: str) -> GraspOutcome:
+    """The outcome of a grasp that found no plan: aborted, the object where it stood."""
+    from graspframe.strategy.execution import GraspOutcome, Grip
+
+    return GraspOutcome(
+        contacts=[],
+        T_world_object_at_hold=make_T(p=[0.0, 0.0, obj.half_height]),
+        grip=Grip(),
+        held=None,
+        aborted=f"no plan: {reason}",
+    )
 
 
 GRAVITY = 9.81  # [m/s^2]
@@ -277,20 +306,18 @@ def hold_measures(trial: HoldTrial) -> list[str]:
         lines.append(
             f"pushes: the largest motion in the hand was {motion.describe()} ({direction})"
         )
-    if trial.held:
+    if trial.held or trial.outcome.aborted:  # an aborted trial: its reason says it all
         return lines
-    return lines + _limits(trial, counts)
+    return lines + _limits(trial)
 
 
-def _limits(trial: HoldTrial, counts: dict[str, int]) -> list[str]:
+def _limits(trial: HoldTrial) -> list[str]:
     """Why a hold may have failed: fingers that never touched, squeeze against weight."""
     lines = []
-    missing = [f for f in trial.fingers if f not in counts]
+    missing = _never_touched(trial)
     if missing:
         lines.append(f"never touched the object: {', '.join(missing)}")
-    contacts = trial.outcome.contacts
-    squeeze = sum(abs(float(np.dot(c.f, c.n))) for c in contacts)
-    weight = trial.obj.mass * GRAVITY
+    squeeze, weight = _squeeze(trial), trial.obj.mass * GRAVITY
     friction = trial.obj.static_friction
     lines.append(
         f"squeeze: {squeeze:.1f} N of normal force at the hold; with the object's friction "
@@ -298,6 +325,43 @@ def _limits(trial: HoldTrial, counts: dict[str, int]) -> list[str]:
         f"{weight:.1f} N weight (plus half of it when pushed)"
     )
     return lines
+
+
+def _never_touched(trial: HoldTrial) -> list[str]:
+    """The real fingers meant to touch the object that had no contact at the hold."""
+    touching = {contact.real_finger for contact in trial.outcome.contacts}
+    return [finger for finger in trial.fingers if finger not in touching]
+
+
+def _squeeze(trial: HoldTrial) -> float:
+    """[N] the normal force of every contact at the hold, summed."""
+    return sum(abs(float(np.dot(c.f, c.n))) for c in trial.outcome.contacts)
+
+
+def hold_limit(trial: HoldTrial) -> str:
+    """What limited a failed hold, in a few words: the fingers that never touched, and
+    the friction of the squeeze when it is below the weight and the pushes (half the
+    weight); else that neither did; for an aborted trial, that it stopped before the
+    hold (its reason says why)."""
+    if trial.outcome.aborted:
+        return "the trial stopped before the hold"
+    limits = []
+    missing = _never_touched(trial)
+    if missing:
+        limits.append(f"{', '.join(missing)} never touched the object")
+    squeeze, weight = _squeeze(trial), trial.obj.mass * GRAVITY
+    friction = trial.obj.static_friction
+    pushed = (1.0 + DISTURBANCE_FRACTION) * weight  # the pushes come on top of the weight
+    if friction * squeeze < pushed:
+        limits.append(
+            f"squeeze {squeeze:.1f} N x friction {friction:g} = {friction * squeeze:.1f} N, "
+            f"below the {weight:.1f} N weight plus {100 * DISTURBANCE_FRACTION:.0f} % of it "
+            "(the pushes)"
+        )
+    return "; ".join(limits) or (
+        "neither the fingers (all touched) nor the squeeze (its friction exceeds the "
+        "weight and the pushes): see the picture"
+    )
 
 
 def hold_problems(hand: HandDescription, backend: Backend) -> list[str]:
