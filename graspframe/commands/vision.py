@@ -16,7 +16,7 @@ import numpy as np
 
 from graspframe.defaults import DEFAULT_CLASSIFIER
 from graspframe.errors import InputError
-from graspframe.hal.classifier import HumanGraspEstimate
+from graspframe.hal.classifier import ClassifierOptions, HumanGraspEstimate
 from graspframe.transforms import rpy_from_R
 from graspframe.vision.images import read_image
 
@@ -79,8 +79,8 @@ def classify_command(
     classifier_class = get_classifier(classifier)
     if k < 1:
         raise InputError(f"--k must be >= 1, got {k}")
-    # --k is for kNN classifiers; both built-in ones take k.
-    estimate = classifier_class(k=k).classify(read_image(image))  # type: ignore[call-arg]
+    options = ClassifierOptions(k=k)  # a classifier without neighbours ignores k
+    estimate = classifier_class.with_options(options).classify(read_image(image))
     if as_json:
         sys.stdout.write(json.dumps(estimate_as_json(estimate), indent=2) + "\n")
         return 0

@@ -2,7 +2,13 @@
 it), and the interfaces of the other things plugins provide (classifiers, viewers,
 commands)."""
 
-from graspframe.hal.classifier import Classifier, ClassifierPicture, HumanGraspEstimate, Neighbour
+from graspframe.hal.classifier import (
+    Classifier,
+    ClassifierOptions,
+    ClassifierPicture,
+    HumanGraspEstimate,
+    Neighbour,
+)
 from graspframe.hal.commands import PluginCommand
 from graspframe.hal.descriptions import (
     AdapterShape,
@@ -27,6 +33,7 @@ __all__ = [
     "ArmDriver",
     "Backend",
     "Classifier",
+    "ClassifierOptions",
     "ClassifierPicture",
     "Coupling",
     "DesignObject",
