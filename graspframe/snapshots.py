@@ -41,33 +41,37 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
+from graspframe.contacts import Contact
 from graspframe.errors import GraspframeError, InputError
 from graspframe.hal.descriptions import joints_by_name
 from graspframe.hal.objects import ObjectDescription
 from graspframe.pictures import style
 from graspframe.pictures.inputs import checked_figure, checked_object_soup, contact_points, pose
-from graspframe.pictures.panel import legend_entries, render_panel
+from graspframe.pictures.panel import (
+    FOV_DEG,
+    PALM_VIEW_DIRECTION,
+    legend_entries,
+    render_panel,
+)
 from graspframe.pictures.render3d import Camera, Placed, View, box_corners, fit_view
 from graspframe.pictures.robot_scene import distance_to, table_soup
 from graspframe.pictures.sheet import compose, write_png
-from graspframe.strategy.execution import Moment
 from graspframe.transforms import R_from_axis_angle, inv_T, transform_points
 from graspframe.urdf_model import UrdfModel
 
 PICTURE_STYLE = 2  # changes with the look of the pictures (cached pictures are redrawn)
 PANEL_PX = 360  # [px] side of a square panel
-FOV_DEG = 30.0  # horizontal field of view of every camera
 FAR_OBJECT = 0.5  # [m] an object further from the palm is left out of the framing
 NEAR_HAND = 0.10  # [m] arm links with a vertex this close to the palm origin are drawn (the wrist)
 TABLE_HALF_SIZE = 0.6  # [m] the table top drawn around the framed hand and object
 SIDE_ELEVATION_DEG = 20.0
 ABOVE_ELEVATION_DEG = 60.0
 ABOVE_TURN_DEG = 60.0
-PALM_VIEW_DIRECTION = (0.0, -0.3, 1.0)  # palm frame: from the object's side, a little to -y
 WORLD_UP = np.array([0.0, 0.0, 1.0])
 
 
@@ -109,6 +113,24 @@ def scene_of_robot(model: UrdfModel, T_world_root, hand, obj, table_height: floa
     )
 
 
+class GraspMoment(Protocol):
+    """What a picture reads of a moment of an execution (strategy/execution.py's
+    `Moment`; declared here so that pictures need nothing of the strategy): q_arm [rad]
+    in the arm's joint order (None: no arm), q_hand [rad or m] by joint name, the
+    object's pose and the contacts in the world frame."""
+
+    @property
+    def label(self) -> str: ...
+    @property
+    def q_arm(self) -> NDArray[np.float64] | None: ...
+    @property
+    def q_hand(self) -> Mapping[str, float]: ...
+    @property
+    def T_world_object(self) -> NDArray[np.float64]: ...
+    @property
+    def contacts(self) -> tuple[Contact, ...]: ...
+
+
 @dataclass(frozen=True)
 class Snapshot:
     """One moment of the grasp.
@@ -126,7 +148,7 @@ class Snapshot:
     contact_fingers: Sequence[str] = ()
 
     @classmethod
-    def from_moment(cls, moment: Moment, arm_joint_names: Sequence[str]) -> Snapshot:
+    def from_moment(cls, moment: GraspMoment, arm_joint_names: Sequence[str]) -> Snapshot:
         """A moment of an execution (strategy/execution.py), the arm's joints named in
         `arm_joint_names` order."""
         q = joints_by_name(arm_joint_names, moment.q_arm, moment.q_hand)

@@ -32,10 +32,10 @@ FLOORS = {
     "robot models": ("robot_model", "mounting", "floating_base", "shapes"),
     "registry": ("registry", "plugins", "specs"),
     "motion and metrics": ("motion", "metrics"),
-    "algorithms": (
-        "strategy", "testing", "checks", "pictures", "snapshots", "vision", "render",
-        "perception",
-    ),
+    "pictures": ("render", "pictures", "snapshots"),
+    "perception": ("vision", "perception"),
+    "strategy": ("strategy",),
+    "checks": ("testing", "checks"),
     "runs": ("run_request", "run_result", "scoring", "runner", "experiments"),
     "CLI": ("cli", "commands", "interrupts"),
 }  # fmt: skip
@@ -103,6 +103,22 @@ def test_no_floor_imports_a_floor_above_it():
                 if RANK[target] > RANK[part]:
                     upward.append(f"{path.relative_to(PACKAGE)} imports {name}")
     assert not upward, "\n".join(upward)
+
+
+def test_the_parts_of_the_package_import_one_another_without_a_cycle():
+    """Also within a floor: each part (a top-level module or subpackage) can be built on
+    those it imports, so a floor could always be split along its imports."""
+    imported: dict[str, set[str]] = {part: set() for part in RANK}
+    for path in PACKAGE.rglob("*.py"):
+        part = _part(path)
+        for name in _imports(path):
+            if name.startswith("graspframe.") and name.split(".")[1] != part:
+                imported[part].add(name.split(".")[1])
+    done: list[str] = []
+    while len(done) < len(imported):
+        ready = [part for part in imported if part not in done and imported[part] <= set(done)]
+        assert ready, f"an import cycle among {sorted(set(imported) - set(done))}"
+        done += ready
 
 
 def test_the_core_package_never_imports_the_simulator_or_the_recorder():
