@@ -16,7 +16,7 @@ from graspframe_sapien.world import SapienWorld
 from graspframe import floating_base
 from graspframe.convex import ConvexPieces
 from graspframe.grasps import HumanGrasp
-from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.objects import ObjectDescription
 from graspframe.mesh_geometry import MeshGeometry
 from graspframe.metrics.virtual_fingers import MatchedPair, VirtualFingerGrasp
@@ -47,7 +47,6 @@ sapien.physx.PhysxArticulationLinkComponent.disable_gravity
 
 # Data fields of descriptions and results: part of what they describe.
 HandDescription.extras
-ArmDescription.payload
 ObjectDescription.extras
 LinearMoveResult.T_world_palm_at_contact
 LinearMoveResult.T_world_palm_end
@@ -56,7 +55,7 @@ MatchedPair.robot_index
 MatchedPair.human_index
 HandCrop.area
 
-# Interfaces: the plugin callback protocol and the HAL arm driver's measured velocities.
+# Interfaces: the plugin callback protocol.
 Register.__call__
 
 # SAPIEN's URDF loader reads these while parsing model text (graspframe_sapien.articulation).
@@ -77,9 +76,6 @@ SapienHandDriver.held_leaders
 SapienWorld.teleport_hand
 FEATURE_NAMES
 write_demo
-
-# The picture of one hand around an object: the interface `graspframe check-hand` draws
-# its preshapes with (tests/test_pictures.py calls it).
 
 # The run-event catalogue: its list and the prose of each kind and field are read by the
 # documentation test and by observers.

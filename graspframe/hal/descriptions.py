@@ -401,7 +401,6 @@ class ArmDescription:
     joints: tuple[JointSpec, ...]
     home_q: tuple[float, ...]
     drive: DriveGains
-    payload: float = 0.0
     summary: str = ""
     packages: Mapping[str, Path] = field(default_factory=dict)
     frames: Mapping[str, FrameOffset] = field(default_factory=dict)
