@@ -9,6 +9,8 @@ import ruckig
 import sapien
 from graspframe_hog_knn.demo import write_demo
 from graspframe_hog_knn.segmentation import HandCrop
+from graspframe_human.description import HAND_LENGTH
+from graspframe_karlsruhe.description import MODEL_FRAME
 from graspframe_landmarks.features import FEATURE_NAMES
 from graspframe_sapien.drivers import SapienHandDriver
 from graspframe_sapien.world import SapienWorld
@@ -76,6 +78,11 @@ SapienHandDriver.held_leaders
 SapienWorld.teleport_hand
 FEATURE_NAMES
 write_demo
+
+# Facts of a hand model the tests check it against: the human hand's chosen size, the
+# Karlsruhe hand's frame of the published kinematics.
+HAND_LENGTH
+MODEL_FRAME
 
 # The run-event catalogue: its list and the prose of each kind and field are read by the
 # documentation test and by observers.
