@@ -48,7 +48,7 @@ from numpy.typing import NDArray
 
 from graspframe.contacts import Contact
 from graspframe.errors import GraspframeError, InputError
-from graspframe.hal.descriptions import joints_by_name
+from graspframe.hal.descriptions import HandDescription, joints_by_name
 from graspframe.hal.objects import ObjectDescription
 from graspframe.pictures import style
 from graspframe.pictures.inputs import checked_figure, checked_object_soup, contact_points, pose
@@ -99,7 +99,13 @@ class SnapshotScene:
     table_height: float
 
 
-def scene_of_robot(model: UrdfModel, T_world_root, hand, obj, table_height: float) -> SnapshotScene:
+def scene_of_robot(
+    model: UrdfModel,
+    T_world_root: NDArray[np.float64],
+    hand: HandDescription,
+    obj: ObjectDescription,
+    table_height: float,
+) -> SnapshotScene:
     """The scene of a hand (a HandDescription, alone or mounted: `model` is the model
     drawn, its root at T_world_root) and an ObjectDescription on a table."""
     return SnapshotScene(
@@ -155,7 +161,13 @@ class Snapshot:
         return cls.with_contacts(moment.label, q, moment.T_world_object, moment.contacts)
 
     @classmethod
-    def with_contacts(cls, label: str, q_by_joint, T_world_object, contacts: Sequence) -> Snapshot:
+    def with_contacts(
+        cls,
+        label: str,
+        q_by_joint: Mapping[str, float],
+        T_world_object: NDArray[np.float64],
+        contacts: Sequence[Contact],
+    ) -> Snapshot:
         """The moment with `contacts` (graspframe.contacts.Contact, world frame) drawn."""
         return cls(
             label=label,
@@ -234,19 +246,21 @@ def _place_moments(
     return moments
 
 
-def _horizontal(v) -> NDArray[np.float64] | None:
+def _horizontal(v: NDArray[np.float64]) -> NDArray[np.float64] | None:
     """The unit horizontal part of a world vector, None when it is nearly vertical."""
     h = np.array([v[0], v[1], 0.0])
     n = float(np.linalg.norm(h))
     return None if n < 0.2 else h / n
 
 
-def _elevated(horizontal, elevation_deg: float) -> NDArray[np.float64]:
+def _elevated(horizontal: NDArray[np.float64], elevation_deg: float) -> NDArray[np.float64]:
     e = math.radians(elevation_deg)
     return math.cos(e) * horizontal + math.sin(e) * WORLD_UP
 
 
-def side_direction(T_world_palm, p_world_arm=None) -> NDArray[np.float64]:
+def side_direction(
+    T_world_palm: NDArray[np.float64], p_world_arm: NDArray[np.float64] | None = None
+) -> NDArray[np.float64]:
     """World direction from the hand towards the side view's camera: from the palm's -y
     side, or its +y side when the arm's points `p_world_arm` (n, 3) [m] lie more towards
     the -y camera (the arm stays behind the hand)."""
@@ -263,7 +277,9 @@ def side_direction(T_world_palm, p_world_arm=None) -> NDArray[np.float64]:
     return _elevated(horizontal, SIDE_ELEVATION_DEG)
 
 
-def above_direction(T_world_palm, p_world_arm=None) -> NDArray[np.float64]:
+def above_direction(
+    T_world_palm: NDArray[np.float64], p_world_arm: NDArray[np.float64] | None = None
+) -> NDArray[np.float64]:
     """World direction from the hand towards the above view's camera: behind the back of
     the hand, or behind the wrist when the palm faces down or up; turned ABOVE_TURN_DEG
     to either side when that keeps the arm's points `p_world_arm` (n, 3) [m] further
@@ -288,7 +304,7 @@ def _camera() -> Camera:
     return Camera.from_fov(PANEL_PX, PANEL_PX, FOV_DEG)
 
 
-def _world_views(moments: Sequence[_Moment], direction) -> list[View]:
+def _world_views(moments: Sequence[_Moment], direction: NDArray[np.float64]) -> list[View]:
     points = np.concatenate([m.framed_points() for m in moments])
     view = fit_view(_camera(), points, direction, WORLD_UP)
     return [view] * len(moments)
