@@ -28,6 +28,7 @@ from graspframe_hog_knn.views import GRASPS
 
 from graspframe.defaults import DEFAULT_CLASSIFIER
 from graspframe.errors import GraspframeError
+from graspframe.hal import ClassifierOptions
 from graspframe.registry import get_classifier
 from graspframe.vision.images import read_image
 
@@ -121,7 +122,7 @@ def benchmark_folder(folder: Path, classifier_name: str, k: int) -> None:
         return
     rows = read_labels(folder)
     try:
-        classifier = get_classifier(classifier_name)(k=k)
+        classifier = get_classifier(classifier_name).with_options(ClassifierOptions(k=k))
     except GraspframeError as exc:
         raise SystemExit(f"error: {exc}") from None
     classify_all(classifier, rows[:1])  # load databases and detectors before timing

@@ -1,5 +1,6 @@
-"""The `graspframe` command line: the typer app, every command's options and help, and
-the small commands; the bodies of the larger ones are in graspframe/commands/.
+"""The `graspframe` command line: the typer app, every built-in command's options and
+help, and the small commands; the bodies of the larger ones are in graspframe/commands/,
+and plugins add commands of their own (graspframe/commands/plugin_commands.py).
 
 Every error graspframe raises on purpose is printed as one line and exits non-zero;
 `--verbose` shows the traceback as well. Exit codes (docs/cli.md): 0 done (`run`: the
@@ -22,6 +23,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from graspframe import __version__
+from graspframe.commands.plugin_commands import WithPluginCommands
 from graspframe.defaults import (
     DEFAULT_ARM,
     DEFAULT_BACKEND,
@@ -42,9 +44,8 @@ app = typer.Typer(
     no_args_is_help=True,
     pretty_exceptions_enable=False,
     add_completion=False,
+    cls=WithPluginCommands,  # and the commands the plugins add
 )
-db_app = typer.Typer(help="The synthetic view database of the hog_knn classifier.")
-app.add_typer(db_app, name="db")
 
 console = Console()
 err_console = Console(stderr=True)
@@ -374,22 +375,6 @@ def check_hand(
     from graspframe.commands.check_hand import check_hand_command
 
     raise typer.Exit(check_hand_command(name, hold=hold, backend=backend, pictures=pictures))
-
-
-@db_app.command("build")
-def db_build(
-    views_per_grasp: Annotated[int, typer.Option(help="Rendered views per grasp.")] = 2000,
-    size: Annotated[int, typer.Option(help="Rendered image side \\[px].")] = 128,
-    workers: Annotated[int, typer.Option(help="Rendering processes.")] = 2,
-    seed: Annotated[int, typer.Option(help="Seed; the same seed gives the same database.")] = 0,
-    out: Annotated[
-        Path | None, typer.Option(help="Output .npz (default: the shipped database).")
-    ] = None,
-) -> None:
-    """(Re)build the synthetic view database of the hog_knn classifier."""
-    from graspframe.commands.vision import db_build_command
-
-    raise typer.Exit(db_build_command(views_per_grasp, size, workers, seed, out))
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -68,9 +68,6 @@ METHOD_HULL = "hull"
 METHOD_GIVEN = "given pieces"
 METHOD_COACD = "coacd"
 CACHE_KIND = "decompositions"
-# Mesh files read here: an object's (OBJ, STL, GLB, PLY: hal/objects.py) and a robot's
-# collision meshes as vendor URDFs name them (OBJ, STL, COLLADA).
-MESH_SUFFIXES = (".obj", ".stl", ".dae", ".glb", ".gltf", ".ply")
 # Part of the cache key: bump it when the way pieces are made changes.
 PROCEDURE_VERSION = 1
 
@@ -98,14 +95,14 @@ class ConvexPieces:
 def check_mesh_file(path: Path | str) -> Path:
     """`path` when it names an existing file of a known mesh format; DescriptionError
     otherwise (the file is not read)."""
-    return mesh_file(path, MESH_SUFFIXES, "mesh file")
+    return mesh_file(path, "mesh file")
 
 
 def load_mesh(path: Path | str, scale: Sequence[float] = (1.0, 1.0, 1.0)) -> trimesh.Trimesh:
-    """The triangles of a mesh file (OBJ, STL, GLB, PLY; a GLB's scene graph is applied
-    and its meshes merged), vertices times `scale` per axis and those at the same place
-    merged; materials and textures are not read. DescriptionError for a missing file,
-    an unknown suffix or no triangles."""
+    """The triangles of a mesh file (graspframe.files.MESH_SUFFIXES: OBJ, STL, COLLADA,
+    glTF, PLY; a scene graph is applied and its meshes merged), vertices times `scale`
+    per axis and those at the same place merged; materials and textures are not read.
+    DescriptionError for a missing file, an unknown suffix or no triangles."""
     path = check_mesh_file(path)
     try:
         loaded = trimesh.load(path, force="mesh", process=False, skip_materials=True)

@@ -20,16 +20,20 @@ from typing import BinaryIO
 
 from graspframe.errors import DescriptionError, OutputError
 
+# The mesh files graspframe reads (trimesh, COLLADA through pycollada): an object's
+# (hal/objects.py) and a robot's collision meshes (convex.py's `load_mesh` reads both).
+MESH_SUFFIXES = (".obj", ".stl", ".dae", ".glb", ".gltf", ".ply")
 
-def mesh_file(path: Path | str, suffixes: tuple[str, ...], what: str) -> Path:
-    """`path` when it names an existing file with one of the `suffixes` (the file is not
-    read); a DescriptionError naming `what` (e.g. "mesh file", "object 'mug': mesh_path")
-    otherwise."""
+
+def mesh_file(path: Path | str, what: str) -> Path:
+    """`path` when it names an existing file of one of the MESH_SUFFIXES formats (the
+    file is not read); a DescriptionError naming `what` (e.g. "mesh file", "object
+    'mug': mesh_path") otherwise."""
     path = Path(path)
-    if path.suffix.lower() not in suffixes:
+    if path.suffix.lower() not in MESH_SUFFIXES:
         raise DescriptionError(
             f"{what} {path}: unknown format {path.suffix or '(no suffix)'!r}; mesh files "
-            f"are {', '.join(suffixes)}"
+            f"are {', '.join(MESH_SUFFIXES)}"
         )
     if not path.is_file():
         raise DescriptionError(f"{what} {path} does not exist; give the path of a mesh file")

@@ -31,6 +31,7 @@ from graspframe.errors import OutputError, PluginError, UnknownNameError
 from graspframe.events import RunEvent, RunInfo
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.classifier import Classifier
+from graspframe.hal.commands import PluginCommand
 from graspframe.hal.depth_camera import DepthCamera
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.drivers import Backend
@@ -103,6 +104,12 @@ KINDS: dict[str, _Kind] = {
             lambda x: isinstance(x, type) and issubclass(x, Viewer),
             "a Viewer subclass",
         ),
+        _Kind(
+            "command",
+            "graspframe_register_commands",
+            lambda x: isinstance(x, PluginCommand),
+            "a PluginCommand",
+        ),
     )
 }
 
@@ -154,7 +161,8 @@ def _one_line(exc: BaseException) -> str:
 
 
 class Registry:
-    """Registered hands, arms, backends, classifiers, objects and viewers, with their origin."""
+    """Registered hands, arms, backends, classifiers, objects, cameras, viewers and commands,
+    with their origin."""
 
     def __init__(self, strict: bool | None = None) -> None:
         self.strict = _strict_from_env() if strict is None else strict

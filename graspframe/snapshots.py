@@ -44,33 +44,37 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
+from graspframe.contacts import Contact
 from graspframe.errors import GraspframeError, InputError
-from graspframe.hal.descriptions import joints_by_name
+from graspframe.hal.descriptions import HandDescription, joints_by_name
 from graspframe.hal.objects import ObjectDescription
 from graspframe.pictures import style
 from graspframe.pictures.inputs import checked_figure, checked_object_soup, contact_points, pose
-from graspframe.pictures.panel import legend_entries, render_panel
+from graspframe.pictures.panel import (
+    FOV_DEG,
+    PALM_VIEW_DIRECTION,
+    legend_entries,
+    render_panel,
+)
 from graspframe.pictures.render3d import Camera, Placed, View, box_corners, fit_view
 from graspframe.pictures.robot_scene import RobotFigure, distance_to, table_soup
 from graspframe.pictures.sheet import compose, write_png
-from graspframe.strategy.execution import Moment
 from graspframe.transforms import R_from_axis_angle, inv_T, transform_points
 from graspframe.urdf_model import UrdfModel
 
 PICTURE_STYLE = 3  # changes with the look of the pictures (cached pictures are redrawn)
 PANEL_PX = 360  # [px] side of a square panel
-FOV_DEG = 30.0  # horizontal field of view of every camera
 FAR_OBJECT = 0.5  # [m] an object further from the palm is left out of the framing
 NEAR_HAND = 0.10  # [m] arm links with a vertex this close to the palm origin are drawn (the wrist)
 TABLE_HALF_SIZE = 0.6  # [m] the table top drawn around the framed hand and object
 SIDE_ELEVATION_DEG = 20.0
 ABOVE_ELEVATION_DEG = 60.0
 ABOVE_TURN_DEG = 60.0
-PALM_VIEW_DIRECTION = (0.0, -0.3, 1.0)  # palm frame: from the object's side, a little to -y
 WORLD_UP = np.array([0.0, 0.0, 1.0])
 
 
@@ -98,7 +102,13 @@ class SnapshotScene:
     table_height: float
 
 
-def scene_of_robot(model: UrdfModel, T_world_root, hand, obj, table_height: float) -> SnapshotScene:
+def scene_of_robot(
+    model: UrdfModel,
+    T_world_root: NDArray[np.float64],
+    hand: HandDescription,
+    obj: ObjectDescription,
+    table_height: float,
+) -> SnapshotScene:
     """The scene of a hand (a HandDescription, alone or mounted: `model` is the model
     drawn, its root at T_world_root) and an ObjectDescription on a table."""
     return SnapshotScene(
@@ -110,6 +120,24 @@ def scene_of_robot(model: UrdfModel, T_world_root, hand, obj, table_height: floa
         obj=obj,
         table_height=table_height,
     )
+
+
+class GraspMoment(Protocol):
+    """What a picture reads of a moment of an execution (strategy/execution.py's
+    `Moment`; declared here so that pictures need nothing of the strategy): q_arm [rad]
+    in the arm's joint order (None: no arm), q_hand [rad or m] by joint name, the
+    object's pose and the contacts in the world frame."""
+
+    @property
+    def label(self) -> str: ...
+    @property
+    def q_arm(self) -> NDArray[np.float64] | None: ...
+    @property
+    def q_hand(self) -> Mapping[str, float]: ...
+    @property
+    def T_world_object(self) -> NDArray[np.float64]: ...
+    @property
+    def contacts(self) -> tuple[Contact, ...]: ...
 
 
 @dataclass(frozen=True)
@@ -129,14 +157,20 @@ class Snapshot:
     contact_fingers: Sequence[str] = ()
 
     @classmethod
-    def from_moment(cls, moment: Moment, arm_joint_names: Sequence[str]) -> Snapshot:
+    def from_moment(cls, moment: GraspMoment, arm_joint_names: Sequence[str]) -> Snapshot:
         """A moment of an execution (strategy/execution.py), the arm's joints named in
         `arm_joint_names` order."""
         q = joints_by_name(arm_joint_names, moment.q_arm, moment.q_hand)
         return cls.with_contacts(moment.label, q, moment.T_world_object, moment.contacts)
 
     @classmethod
-    def with_contacts(cls, label: str, q_by_joint, T_world_object, contacts: Sequence) -> Snapshot:
+    def with_contacts(
+        cls,
+        label: str,
+        q_by_joint: Mapping[str, float],
+        T_world_object: NDArray[np.float64],
+        contacts: Sequence[Contact],
+    ) -> Snapshot:
         """The moment with `contacts` (graspframe.contacts.Contact, world frame) drawn."""
         return cls(
             label=label,
@@ -252,19 +286,21 @@ def _bodies(figure: RobotFigure, T_world_root, T_world_palm, placed_object: Plac
     return _Bodies(hand, arm, placed_object)
 
 
-def _horizontal(v) -> NDArray[np.float64] | None:
+def _horizontal(v: NDArray[np.float64]) -> NDArray[np.float64] | None:
     """The unit horizontal part of a world vector, None when it is nearly vertical."""
     h = np.array([v[0], v[1], 0.0])
     n = float(np.linalg.norm(h))
     return None if n < 0.2 else h / n
 
 
-def _elevated(horizontal, elevation_deg: float) -> NDArray[np.float64]:
+def _elevated(horizontal: NDArray[np.float64], elevation_deg: float) -> NDArray[np.float64]:
     e = math.radians(elevation_deg)
     return math.cos(e) * horizontal + math.sin(e) * WORLD_UP
 
 
-def side_direction(T_world_palm, p_world_arm=None) -> NDArray[np.float64]:
+def side_direction(
+    T_world_palm: NDArray[np.float64], p_world_arm: NDArray[np.float64] | None = None
+) -> NDArray[np.float64]:
     """World direction from the hand towards the side view's camera: from the palm's -y
     side, or its +y side when the arm's points `p_world_arm` (n, 3) [m] lie more towards
     the -y camera (the arm stays behind the hand)."""
@@ -281,7 +317,9 @@ def side_direction(T_world_palm, p_world_arm=None) -> NDArray[np.float64]:
     return _elevated(horizontal, SIDE_ELEVATION_DEG)
 
 
-def above_direction(T_world_palm, p_world_arm=None) -> NDArray[np.float64]:
+def above_direction(
+    T_world_palm: NDArray[np.float64], p_world_arm: NDArray[np.float64] | None = None
+) -> NDArray[np.float64]:
     """World direction from the hand towards the above view's camera: behind the back of
     the hand, or behind the wrist when the palm faces down or up; turned ABOVE_TURN_DEG
     to either side when that keeps the arm's points `p_world_arm` (n, 3) [m] further
@@ -306,7 +344,7 @@ def _camera() -> Camera:
     return Camera.from_fov(PANEL_PX, PANEL_PX, FOV_DEG)
 
 
-def _world_views(moments: Sequence[_Moment], direction) -> list[View]:
+def _world_views(moments: Sequence[_Moment], direction: NDArray[np.float64]) -> list[View]:
     points = np.concatenate([m.framed_points() for m in moments])
     view = fit_view(_camera(), points, direction, WORLD_UP)
     return [view] * len(moments)

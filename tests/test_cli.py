@@ -6,6 +6,7 @@ import json
 import re
 
 import pytest
+import typer
 import typer.main
 
 from graspframe.cli import app, main
@@ -76,8 +77,11 @@ def test_verbose_shows_the_traceback(capsys):
 
 
 def _commands(group, path: tuple[str, ...] = ()):
-    """(command words, command) of every command of the app, subcommands included."""
-    for name, command in group.commands.items():
+    """(command words, command) of every command of the app, subcommands included (and
+    those the plugins add)."""
+    context = typer.Context(group)
+    for name in group.list_commands(context):
+        command = group.get_command(context, name)
         if hasattr(command, "commands"):
             yield from _commands(command, (*path, name))
         else:
@@ -121,8 +125,8 @@ def test_the_units_in_brackets_are_those_of_the_options():
 
 
 def test_db_build_needs_the_hog_knn_plugin(tmp_path):
-    """The database belongs to the hog_knn plugin: without it, one line naming what is
-    registered, before anything is built."""
+    """The database and its command belong to the hog_knn plugin: without it, one line
+    naming the plugin that is not loaded, before anything is built."""
     import os
     import subprocess
     import sys
@@ -138,5 +142,8 @@ def test_db_build_needs_the_hog_knn_plugin(tmp_path):
     )
     assert done.returncode == 1
     message = " ".join(done.stderr.split())
-    assert "unknown classifier 'hog_knn'; known classifiers: landmarks" in message
+    assert (
+        "unknown command 'db'; it may come from a plugin that is not loaded: "
+        "hog_knn (disabled by GRASPFRAME_DISABLE_PLUGINS)"
+    ) in message
     assert not out.exists()

@@ -191,3 +191,12 @@ def test_classifier_contract_catches_guessing():
     problems = classifier_problems(_GuessingClassifier)
     assert "a uniform grey image gave an estimate (pinch) instead of an error" in problems
     assert "an empty array gave an estimate (pinch) instead of an error" in problems
+
+
+def test_a_classifier_without_settings_ignores_the_options():
+    """The user's options (classify --k) reach any classifier through `with_options`;
+    one that has no such setting is built with no arguments."""
+    from graspframe.hal import ClassifierOptions
+
+    built = _RefusingClassifier.with_options(ClassifierOptions(k=3))
+    assert type(built) is _RefusingClassifier

@@ -1,6 +1,8 @@
 """The layers of docs/architecture.md: each part of the core package imports only its own
 floor and the floors below, nothing in it imports the simulator or the recorder, and
-nothing in it imports a plugin package: plugins are found through the registry.
+nothing in it imports a plugin package, not even by name through importlib: plugins are
+found through the registry. No plugin package imports another one either: each owns its
+pipeline, and what they share is in the core.
 
 Every import counts: at the top of a module, inside a function, or for type checking
 only. The floors here and the layer picture of docs/architecture.md say the same.
@@ -15,6 +17,7 @@ from pathlib import Path
 import graspframe
 
 PACKAGE = Path(graspframe.__file__).parent
+PLUGINS = PACKAGE.parent / "plugins"
 ARCHITECTURE = Path(__file__).parents[1] / "docs" / "architecture.md"
 # The floors of the layer picture, lowest first: the top-level modules and subpackages of
 # graspframe on each.
@@ -29,10 +32,10 @@ FLOORS = {
     "robot models": ("robot_model", "mounting", "floating_base", "shapes"),
     "registry": ("registry", "plugins", "specs"),
     "motion and metrics": ("motion", "metrics"),
-    "algorithms": (
-        "strategy", "testing", "checks", "pictures", "snapshots", "vision", "render",
-        "perception",
-    ),
+    "pictures": ("render", "pictures", "snapshots"),
+    "perception": ("vision", "perception"),
+    "strategy": ("strategy",),
+    "checks": ("testing", "checks"),
     "runs": ("run_request", "run_result", "scoring", "runner", "experiments"),
     "CLI": ("cli", "commands", "interrupts"),
 }  # fmt: skip
@@ -102,6 +105,22 @@ def test_no_floor_imports_a_floor_above_it():
     assert not upward, "\n".join(upward)
 
 
+def test_the_parts_of_the_package_import_one_another_without_a_cycle():
+    """Also within a floor: each part (a top-level module or subpackage) can be built on
+    those it imports, so a floor could always be split along its imports."""
+    imported: dict[str, set[str]] = {part: set() for part in RANK}
+    for path in PACKAGE.rglob("*.py"):
+        part = _part(path)
+        for name in _imports(path):
+            if name.startswith("graspframe.") and name.split(".")[1] != part:
+                imported[part].add(name.split(".")[1])
+    done: list[str] = []
+    while len(done) < len(imported):
+        ready = [part for part in imported if part not in done and imported[part] <= set(done)]
+        assert ready, f"an import cycle among {sorted(set(imported) - set(done))}"
+        done += ready
+
+
 def test_the_core_package_never_imports_the_simulator_or_the_recorder():
     found = [
         f"{path.relative_to(PACKAGE)} imports {name}"
@@ -118,6 +137,59 @@ def test_the_core_package_never_imports_a_plugin_package():
         for path in PACKAGE.rglob("*.py")
         for name in _imports(path)
         if name.split(".")[0].startswith(PLUGIN_PREFIX) and name.split(".")[0] not in NOT_PLUGINS
+    ]
+    assert not found, "\n".join(found)
+
+
+def _plugin_packages() -> set[str]:
+    return {path.name for path in PLUGINS.iterdir() if (path / "__init__.py").is_file()}
+
+
+def _module_names_in_strings(path: Path) -> list[str]:
+    """Every string in the file that names a module of a plugin package (what
+    importlib.import_module would be given)."""
+    plugin_packages = _plugin_packages()
+    return [
+        node.value
+        for node in ast.walk(ast.parse(path.read_text()))
+        if isinstance(node, ast.Constant)
+        and isinstance(node.value, str)
+        and re.fullmatch(r"\w+(\.\w+)*", node.value)
+        and node.value.split(".")[0] in plugin_packages
+    ]
+
+
+def test_the_core_package_names_no_plugin_module_to_import():
+    assert PLUGIN_PREFIX + "hog_knn" in _plugin_packages()  # the test sees the plugins
+    found = [
+        f"{path.relative_to(PACKAGE)} names {name!r}"
+        for path in PACKAGE.rglob("*.py")
+        for name in _module_names_in_strings(path)
+    ]
+    assert not found, "\n".join(found)
+
+
+def _plugin_imports(path: Path) -> list[str]:
+    """The modules a plugin file imports (plugins use absolute imports only) and the
+    plugin modules it names in strings."""
+    names = _module_names_in_strings(path)
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            names += [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            assert not node.level, f"{path}: a relative import"
+            names.append(node.module or "")
+    return names
+
+
+def test_no_plugin_package_imports_another():
+    plugin_packages = _plugin_packages()
+    found = [
+        f"{path.relative_to(PLUGINS)} imports {name}"
+        for package in sorted(plugin_packages)
+        for path in (PLUGINS / package).rglob("*.py")
+        for name in _plugin_imports(path)
+        if name.split(".")[0] in plugin_packages - {package}
     ]
     assert not found, "\n".join(found)
 

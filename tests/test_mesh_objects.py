@@ -137,10 +137,10 @@ def test_overlapping_pieces_are_counted_once():
         ({"mesh_path": "missing.obj", "mass": 0.1}, r"mesh_path .*missing\.obj does not exist"),
         (
             {"mesh_path": "texture.jpg", "mass": 0.1},
-            r"unknown format '\.jpg'; mesh files are \.obj, \.stl, \.glb, \.ply",
+            r"unknown format '\.jpg'; mesh files are \.obj, \.stl, \.dae, \.glb, \.gltf, \.ply",
         ),
         ({"mesh_path": "box.obj"}, r"needs its mass \[kg\] or its density \[kg/m\^3\]"),
-        ({"mass": 0.1}, r"needs mesh_path, a \.obj/\.stl/\.glb/\.ply file"),
+        ({"mass": 0.1}, r"needs mesh_path, a \.obj/\.stl/\.dae/\.glb/\.gltf/\.ply file"),
         ({"mesh_path": "box.obj", "mass": -1.0}, r"must be > 0"),
         ({"mesh_path": "box.obj", "mass": 0.1, "scale": (1.0, 0.0, 1.0)}, r"scale must be"),
         ({"mesh_path": "box.obj", "mass": 0.1, "dimensions": {"radius": 0.1}}, "no dimensions"),

@@ -1,5 +1,5 @@
 """The KUKA KR 5 sixx R850 model: kinematics against the KR 5 spec (docs/robots/kuka.md),
-limits, home pose and payload. Contract, registration, generator and SAPIEN loading are
+limits and home pose. Contract, registration, generator and SAPIEN loading are
 checked for every robot in test_robots_generic.py and test_registered_contracts.py."""
 
 from __future__ import annotations
@@ -172,7 +172,3 @@ def test_home_pose(model):
     pin.computeJointJacobians(model, data, q)
     J = pin.getFrameJacobian(model, data, model.getFrameId("kr5_flange"), pin.LOCAL_WORLD_ALIGNED)
     assert np.linalg.svd(J, compute_uv=False).min() > 0.1
-
-
-def test_payload_is_5_kg():
-    assert ARM.payload == 5.0

@@ -1,5 +1,5 @@
 """The KUKA LBR iiwa 14 R820 model: kinematics against the iiwa spec, limits, masses, home
-pose and payload. Contract, registration, generator and SAPIEN loading are checked for
+pose. Contract, registration, generator and SAPIEN loading are checked for
 every robot in test_robots_generic.py and test_registered_contracts.py."""
 
 from __future__ import annotations
@@ -129,7 +129,3 @@ def test_home_pose(model):
     pin.computeJointJacobians(model, data, q)
     J = pin.getFrameJacobian(model, data, model.getFrameId("iiwa_flange"), pin.LOCAL_WORLD_ALIGNED)
     assert np.linalg.svd(J, compute_uv=False).min() > 0.1
-
-
-def test_payload_is_14_kg():
-    assert ARM.payload == 14.0

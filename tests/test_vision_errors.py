@@ -79,3 +79,12 @@ def test_a_grey_level_file_is_refused(tmp_path):
 
 def test_public_classifier_contract():
     assert_classifier_contract(HogKnnClassifier)
+
+
+def test_the_users_k_reaches_the_classifier():
+    from graspframe.hal import ClassifierOptions
+
+    assert HogKnnClassifier.with_options(ClassifierOptions(k=3)).k == 3
+    assert HogKnnClassifier.with_options(ClassifierOptions()).k == HogKnnClassifier().k
+    with pytest.raises(InputError, match="k must be >= 1"):
+        HogKnnClassifier.with_options(ClassifierOptions(k=0))

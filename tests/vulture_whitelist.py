@@ -9,6 +9,8 @@ import ruckig
 import sapien
 from graspframe_hog_knn.demo import write_demo
 from graspframe_hog_knn.segmentation import HandCrop
+from graspframe_human.description import HAND_LENGTH
+from graspframe_karlsruhe.description import MODEL_FRAME
 from graspframe_landmarks.features import FEATURE_NAMES
 from graspframe_sapien.drivers import SapienHandDriver
 from graspframe_sapien.world import SapienWorld
@@ -16,7 +18,7 @@ from graspframe_sapien.world import SapienWorld
 from graspframe import floating_base
 from graspframe.convex import ConvexPieces
 from graspframe.grasps import HumanGrasp
-from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.objects import ObjectDescription
 from graspframe.mesh_geometry import MeshGeometry
 from graspframe.metrics.virtual_fingers import MatchedPair, VirtualFingerGrasp
@@ -47,7 +49,6 @@ sapien.physx.PhysxArticulationLinkComponent.disable_gravity
 
 # Data fields of descriptions and results: part of what they describe.
 HandDescription.extras
-ArmDescription.payload
 ObjectDescription.extras
 LinearMoveResult.T_world_palm_at_contact
 LinearMoveResult.T_world_palm_end
@@ -56,7 +57,7 @@ MatchedPair.robot_index
 MatchedPair.human_index
 HandCrop.area
 
-# Interfaces: the plugin callback protocol and the HAL arm driver's measured velocities.
+# Interfaces: the plugin callback protocol.
 Register.__call__
 
 # SAPIEN's URDF loader reads these while parsing model text (graspframe_sapien.articulation).
@@ -78,8 +79,10 @@ SapienWorld.teleport_hand
 FEATURE_NAMES
 write_demo
 
-# The picture of one hand around an object: the interface `graspframe check-hand` draws
-# its preshapes with (tests/test_pictures.py calls it).
+# Facts of a hand model the tests check it against: the human hand's chosen size, the
+# Karlsruhe hand's frame of the published kinematics.
+HAND_LENGTH
+MODEL_FRAME
 
 # The run-event catalogue: its list and the prose of each kind and field are read by the
 # documentation test and by observers.

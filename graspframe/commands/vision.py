@@ -1,13 +1,13 @@
-"""The vision commands: `graspframe classify` (any registered classifier) and
-`graspframe db build` (the view database of the hog_knn classifier, built by its plugin).
+"""The vision command `graspframe classify` (any registered classifier). (The view
+database of the hog_knn classifier is built by `graspframe db build`, a command of its
+plugin.)
 
-cli.py wires them into the typer app; they print their results (rich) and return an
-exit code, and raise GraspframeError subclasses (one-line messages) for bad input.
+cli.py wires it into the typer app; it prints its result (rich) and returns an exit
+code, and raises GraspframeError subclasses (one-line messages) for bad input.
 """
 
 from __future__ import annotations
 
-import importlib
 import json
 import sys
 from pathlib import Path
@@ -16,14 +16,9 @@ import numpy as np
 
 from graspframe.defaults import DEFAULT_CLASSIFIER
 from graspframe.errors import InputError
-from graspframe.hal.classifier import HumanGraspEstimate
+from graspframe.hal.classifier import ClassifierOptions, HumanGraspEstimate
 from graspframe.transforms import rpy_from_R
 from graspframe.vision.images import read_image
-
-# The classifier whose view database `graspframe db build` builds, and the module of its
-# plugin that builds it (imported by name: the core imports no plugin package statically).
-DATABASE_CLASSIFIER = "hog_knn"
-DATABASE_COMMAND_MODULE = "graspframe_hog_knn.commands"
 
 EULER_CONVENTION = (
     "roll-pitch-yaw about the fixed camera axes x, y, z: R = Rz(yaw) Ry(pitch) Rx(roll)"
@@ -84,8 +79,8 @@ def classify_command(
     classifier_class = get_classifier(classifier)
     if k < 1:
         raise InputError(f"--k must be >= 1, got {k}")
-    # --k is for kNN classifiers; both built-in ones take k.
-    estimate = classifier_class(k=k).classify(read_image(image))  # type: ignore[call-arg]
+    options = ClassifierOptions(k=k)  # a classifier without neighbours ignores k
+    estimate = classifier_class.with_options(options).classify(read_image(image))
     if as_json:
         sys.stdout.write(json.dumps(estimate_as_json(estimate), indent=2) + "\n")
         return 0
@@ -127,17 +122,3 @@ def _print_estimate(estimate: HumanGraspEstimate) -> None:
             " / ".join(f"{v:+.0f}" for v in euler_deg(n.R_camera_palm)),
         )
     console.print(table)
-
-
-def db_build_command(
-    views_per_grasp: int, size: int, workers: int, seed: int, out: Path | None
-) -> int:
-    """(Re)build the synthetic view database of the hog_knn classifier: its plugin's
-    `db_build_command` (options in cli.py's `db build`). The registry must provide the
-    classifier first: with its plugin disabled or failed, the one-line error lists the
-    classifiers there are."""
-    from graspframe.registry import get_classifier
-
-    get_classifier(DATABASE_CLASSIFIER)
-    module = importlib.import_module(DATABASE_COMMAND_MODULE)
-    return module.db_build_command(views_per_grasp, size, workers, seed, out)

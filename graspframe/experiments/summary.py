@@ -5,13 +5,19 @@ from __future__ import annotations
 import csv
 import io
 import math
+from collections.abc import Iterable, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import NDArray
 
 from graspframe.defaults import STRATEGY_METHOD
 from graspframe.experiments.trials import swept_object
 from graspframe.files import atomic_output, atomic_write
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 COLUMNS = (
     "mount",
@@ -39,7 +45,7 @@ COLUMNS = (
 )
 
 
-def _mean(values) -> float | None:
+def _mean(values: Iterable[float | None]) -> float | None:
     numbers = [v for v in values if v is not None and math.isfinite(v)]
     return float(np.mean(numbers)) if numbers else None
 
@@ -117,7 +123,7 @@ def summarize(rows: list[dict]) -> list[dict]:
     return summary
 
 
-def _cell(value, decimals: int = 1) -> str:
+def _cell(value: object, decimals: int = 1) -> str:
     if value is None:
         return "-"
     if isinstance(value, bool):
@@ -134,13 +140,13 @@ def _b_held(row: dict) -> str:
     return f"{row['B_successes']}/{row['B_trials']} ({row['B_held_after_lift']})"
 
 
-def _volume(value) -> str:
+def _volume(value: float | None) -> str:
     """A wrench-space volume: small numbers of very different sizes, so 2 significant
     digits."""
     return "-" if value is None else f"{value:.2g}"
 
 
-def _held(success, after_lift) -> str:
+def _held(success: bool | None, after_lift: bool | None) -> str:
     """ "yes", "no" (not even after the lift) or "lift only" (slipped when pushed)."""
     if success is None:
         return "-"
@@ -315,7 +321,16 @@ def _group(row: dict) -> str:
     return f"{row[OBJECT]}\n{row['grasp']}" if OBJECT in row else row["grasp"]
 
 
-def _bars(ax, x, index: int, count: int, values, label: str, colour: str, hatched: bool) -> None:
+def _bars(
+    ax: Axes,
+    x: NDArray[np.integer],
+    index: int,
+    count: int,
+    values: Sequence[float | None],
+    label: str,
+    colour: str,
+    hatched: bool,
+) -> None:
     """One series of bars at slot `index` of `count` per group; a value that was not
     computed is marked "x" rather than drawn as a zero."""
     width = 0.8 / count

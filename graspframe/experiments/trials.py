@@ -13,6 +13,7 @@ import math
 import multiprocessing
 import time
 from dataclasses import asdict, dataclass
+from multiprocessing.connection import Connection
 
 from graspframe.defaults import DEFAULT_ARM, MOUNT_ARM, STRATEGY_METHOD
 from graspframe.grasps import HumanGrasp
@@ -136,7 +137,7 @@ def run_trial(spec: TrialSpec) -> dict:
     return row
 
 
-def _child(spec: TrialSpec, connection) -> None:
+def _child(spec: TrialSpec, connection: Connection) -> None:
     connection.send(run_trial(spec))
     connection.close()
 

@@ -25,6 +25,7 @@ from collections import deque
 from collections.abc import Generator, Iterable
 from contextlib import suppress
 from multiprocessing.connection import Connection, wait
+from multiprocessing.context import SpawnContext
 
 from graspframe.experiments.trials import (
     TrialSpec,
@@ -76,7 +77,7 @@ class _Worker:
     """One worker process, the trial it holds (sent, or waiting for the worker's start)
     and since when it holds it [s, perf_counter]."""
 
-    def __init__(self, context, spec: TrialSpec):
+    def __init__(self, context: SpawnContext, spec: TrialSpec) -> None:
         self.connection, worker_end = context.Pipe()
         self.process = context.Process(target=_serve, args=(worker_end,), daemon=False)
         self.process.start()

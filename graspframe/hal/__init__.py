@@ -1,7 +1,15 @@
 """The hardware abstraction layer: descriptions (what a robot is) and drivers (how to move
-it), and the interfaces of the other things plugins provide (classifiers, viewers)."""
+it), and the interfaces of the other things plugins provide (classifiers, viewers,
+commands)."""
 
-from graspframe.hal.classifier import Classifier, ClassifierPicture, HumanGraspEstimate, Neighbour
+from graspframe.hal.classifier import (
+    Classifier,
+    ClassifierOptions,
+    ClassifierPicture,
+    HumanGraspEstimate,
+    Neighbour,
+)
+from graspframe.hal.commands import PluginCommand
 from graspframe.hal.descriptions import (
     AdapterShape,
     ArmDescription,
@@ -25,6 +33,7 @@ __all__ = [
     "ArmDriver",
     "Backend",
     "Classifier",
+    "ClassifierOptions",
     "ClassifierPicture",
     "Coupling",
     "DesignObject",
@@ -39,6 +48,7 @@ __all__ = [
     "Neighbour",
     "ObjectDescription",
     "ObjectProbe",
+    "PluginCommand",
     "Viewer",
     "World",
     "WorldConfig",

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import ClassVar, Self
 
 import numpy as np
 from numpy.typing import NDArray
@@ -61,16 +61,35 @@ class HumanGraspEstimate:
     pictures: tuple[ClassifierPicture, ...] = ()
 
 
+@dataclass(frozen=True)
+class ClassifierOptions:
+    """The settings a user may give any classifier (`graspframe classify --k`).
+
+    k: how many nearest neighbours vote (>= 1); None: the classifier's own default. A
+    classifier without such a setting ignores it.
+    """
+
+    k: int | None = None
+
+
 class Classifier(ABC):
     """Turns a colour image (H x W x 3, uint8, BGR as OpenCV reads it) into an estimate.
 
-    Registered as a class; `name` is what users select. Raises a GraspframeError (never
-    guesses) when the image holds no hand or cannot be used. The pictures a classifier
-    can show of its work come with its estimate (`HumanGraspEstimate.pictures`).
+    Registered as a class; `name` is what users select. It builds with no arguments
+    (its defaults), and `with_options` builds it with a user's `ClassifierOptions`.
+    Raises a GraspframeError (never guesses) when the image holds no hand or cannot be
+    used. The pictures a classifier can show of its work come with its estimate
+    (`HumanGraspEstimate.pictures`).
     """
 
     name: ClassVar[str]
     summary: ClassVar[str] = ""
+
+    @classmethod
+    def with_options(cls, options: ClassifierOptions) -> Self:
+        """The classifier with the user's `options`. This default ignores them (built
+        with no arguments); a classifier with such settings overrides it."""
+        return cls()
 
     @abstractmethod
     def classify(self, image_bgr: NDArray[np.uint8]) -> HumanGraspEstimate: ...

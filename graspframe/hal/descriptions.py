@@ -273,10 +273,10 @@ class HandDescription:
     grasp_map: every HumanGrasp -> a preshape name (for the human hand: its posture).
     drive: PD gains for the simulated finger drives.
     mass: [kg] total, informative.
-    extras: further facts about the hand, by key, for documentation and tools. One key
-        has a fixed meaning (FINGERTIP_FRAMES_KEY, read through `fingertip_frames`): real
-        finger name -> the link or added frame at that finger's tip, for each finger
-        (not the palm); the contract checks that they are links of the model.
+    extras: further facts about the hand, by key. The one key graspframe reads is
+        FINGERTIP_FRAMES_KEY (through `fingertip_frames`): real finger name -> the link
+        or added frame at that finger's tip, for each finger (not the palm); the contract
+        checks that they are links of the model.
     mountings: name -> `Mounting`: adapters the planner may put between the arm flange
         and the hand, in this order, when the arm finds no path with the hand's root link
         bolted straight onto the flange (graspframe/strategy/arm_path.py).
@@ -403,7 +403,6 @@ class ArmDescription:
     joints: tuple[JointSpec, ...]
     home_q: tuple[float, ...]
     drive: DriveGains
-    payload: float = 0.0
     summary: str = ""
     packages: Mapping[str, Path] = field(default_factory=dict)
     frames: Mapping[str, FrameOffset] = field(default_factory=dict)

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from graspframe.errors import DescriptionError
-from graspframe.files import mesh_file
+from graspframe.files import MESH_SUFFIXES, mesh_file
 from graspframe.grasps import HumanGrasp
 
 if TYPE_CHECKING:
@@ -30,7 +30,6 @@ SHAPES = {
     "sphere": ("radius",),
 }
 MESH = "mesh"
-MESH_SUFFIXES = (".obj", ".stl", ".glb", ".ply")  # mesh files read (graspframe/convex.py)
 
 
 @dataclass(frozen=True)
@@ -107,7 +106,7 @@ class ObjectDescription:
             value = getattr(self, label)
             if value is None:
                 continue
-            path = mesh_file(value, MESH_SUFFIXES, f"{what}: {label}")
+            path = mesh_file(value, f"{what}: {label}")
             object.__setattr__(self, label, path)
         if self.dimensions:
             raise DescriptionError(

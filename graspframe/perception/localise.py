@@ -136,7 +136,12 @@ def _rejected(T_world_object: NDArray[np.float64], points: int, reason: str) -> 
     return ObjectFit(T_world_object.copy(), (0.0, 0.0), points, 0.0, float("nan"), False, reason)
 
 
-def _facing(model: ObjectModel, R, p_world_object, eye) -> tuple[NDArray, NDArray]:
+def _facing(
+    model: ObjectModel,
+    R: NDArray[np.float64],
+    p_world_object: NDArray[np.float64],
+    eye: NDArray[np.float64],
+) -> tuple[NDArray, NDArray]:
     """The model's samples facing the camera at `eye`, in the world: (points, normals)."""
     p = model.p_object @ R.T + p_world_object
     n = model.n_object @ R.T
@@ -144,7 +149,13 @@ def _facing(model: ObjectModel, R, p_world_object, eye) -> tuple[NDArray, NDArra
     return p[toward], n[toward]
 
 
-def _icp(points, model: ObjectModel, R, p_start, eye) -> NDArray[np.float64]:
+def _icp(
+    points: NDArray[np.float64],
+    model: ObjectModel,
+    R: NDArray[np.float64],
+    p_start: NDArray[np.float64],
+    eye: NDArray[np.float64],
+) -> NDArray[np.float64]:
     """Point-to-plane ICP over the horizontal translation; returns the fitted (x, y)."""
     p_object = p_start.astype(float).copy()
     per_gate = ICP_ITERATIONS // len(MATCH_DISTANCES)
@@ -168,7 +179,13 @@ def _icp(points, model: ObjectModel, R, p_start, eye) -> NDArray[np.float64]:
     return p_object[:2].copy()
 
 
-def _quality(points, model: ObjectModel, R, p_object, eye) -> tuple[float, float]:
+def _quality(
+    points: NDArray[np.float64],
+    model: ObjectModel,
+    R: NDArray[np.float64],
+    p_object: NDArray[np.float64],
+    eye: NDArray[np.float64],
+) -> tuple[float, float]:
     """(share of points within INLIER_DISTANCE of the surface, their rms distance [m])."""
     surface, normals = _facing(model, R, p_object, eye)
     distance, index = cKDTree(surface).query(points)

@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from graspframe.files import atomic_output
 from graspframe.hal.depth_camera import DepthImage
@@ -25,7 +26,7 @@ MAX_COLUMNS = 3
 CROP_PX = 70  # [px] shown around the believed and fitted positions
 
 
-def _pixels(image: DepthImage, p_world) -> np.ndarray:
+def _pixels(image: DepthImage, p_world: ArrayLike) -> np.ndarray:
     """(n, 2) (column, row) of world points in the image."""
     T = inv_T(image.T_world_camera)
     p = np.asarray(p_world, dtype=float).reshape(-1, 3) @ T[:3, :3].T + T[:3, 3]

@@ -32,15 +32,18 @@ from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.objects import ObjectDescription
 from graspframe.pictures import style
 from graspframe.pictures.inputs import checked_figure, checked_object_soup, contact_points, pose
-from graspframe.pictures.panel import legend_entries, render_panel
+from graspframe.pictures.panel import (
+    FOV_DEG,
+    PALM_VIEW_DIRECTION,
+    legend_entries,
+    render_panel,
+)
 from graspframe.pictures.render3d import Camera, Placed, box_corners, fit_view
 from graspframe.pictures.sheet import compose, write_png
 from graspframe.transforms import inv_T
 from graspframe.urdf_model import UrdfModel
 
 PANEL_PX = 400  # [px] side of a square panel
-FOV_DEG = 30.0  # horizontal field of view
-PALM_VIEW_DIRECTION = (0.0, -0.3, 1.0)  # palm frame: from the object's side
 SIDE_VIEW_DIRECTION = (0.0, -1.0, 0.36)  # palm frame: from -y, 20 deg above the palm plane
 VIEW_NAMES = ("palm view, facing the palm", "side view, from palm -y")
 

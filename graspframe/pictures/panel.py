@@ -17,6 +17,9 @@ from graspframe.pictures.render3d import Placed, View, render, visible
 from graspframe.pictures.sheet import LegendEntry, draw_arrow, draw_contacts
 
 ARROW_LENGTH = 0.03  # [m] palm axes
+# The cameras of every grasp picture (snapshots.png, check-hand's pictures).
+FOV_DEG = 30.0  # horizontal field of view
+PALM_VIEW_DIRECTION = (0.0, -0.3, 1.0)  # palm frame: from the object's side, a little to -y
 
 
 def render_panel(

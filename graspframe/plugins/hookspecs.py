@@ -63,6 +63,12 @@ def graspframe_register_viewers(register: Register) -> None:
 
 
 @hookspec
+def graspframe_register_commands(register: Register) -> None:
+    """Register commands of the `graspframe` command line: call
+    `register(PluginCommand(name, typer_app))` for each (graspframe.hal.PluginCommand)."""
+
+
+@hookspec
 def graspframe_run_started(run: RunInfo) -> None:
     """A run starts: `run` names it and gives its output directory, its parameters and the
     descriptions of its hand, arm and object."""

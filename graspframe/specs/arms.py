@@ -1,5 +1,5 @@
-"""An arm spec: its base and flange, driven joints with their motion limits, home pose
-and payload, read into an `ArmDescription`; the model is cut at the flange."""
+"""An arm spec: its base and flange, driven joints with their motion limits and home
+pose, read into an `ArmDescription`; the model is cut at the flange."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from graspframe.urdf_model import description_model
 
 ARM_KEYS = (
     "kind", "name", "summary", "urdf", "base_link", "flange_link", "home_q", "home_q_deg",
-    "payload", "packages", "frames", "joints", "drive",
+    "packages", "frames", "joints", "drive",
 )  # fmt: skip
 
 
@@ -45,7 +45,6 @@ def read_arm(reader: SpecReader, data: Mapping[str, Any]) -> ArmDescription:
         joints=joints,
         home_q=home_q,
         drive=read_drive(reader, data),
-        payload=reader.number(data, "payload", "the spec", 0.0),
         summary=str(data.get("summary", "")),
         packages=packages,
         frames=frames,

@@ -196,7 +196,7 @@ def read_hand(reader: SpecReader, data: Mapping[str, Any]) -> HandDescription:
         couplings=tuple(couplings),
         mass=reader.number(data, "mass", "the spec", 0.0),
         summary=str(data.get("summary", "")),
-        extras={FINGERTIP_FRAMES_KEY: dict(tips), "spec": str(reader.path)},
+        extras={FINGERTIP_FRAMES_KEY: dict(tips)},
         packages=packages,
         frames=frames,
     )

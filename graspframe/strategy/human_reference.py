@@ -233,7 +233,7 @@ def simulate_human_grasp(
     reference = HumanReference(grasp, obj.name, contacts, "simulated", verdict, picture, violations)
     if picture is not None:
         moments = [Snapshot.from_moment(m, robot.arm.joint_names) for m in execution.moments]
-        _draw(picture, reference, verdict, robot, config, moments)
+        _draw(picture, reference, verdict, robot, config, obj, moments)
     return reference
 
 
@@ -243,10 +243,11 @@ def _draw(
     held: HeldVerdict,
     robot: MountedRobot,
     config: WorldConfig,
+    obj: ObjectDescription,
     moments: list[Snapshot],
 ) -> None:
     scene = scene_of_robot(
-        robot.model, config.T_world_arm_base, config.hand, config.object, config.table_height
+        robot.model, config.T_world_arm_base, config.hand, obj, config.table_height
     )
     verdict = "held" if held.held else f"not held: {held.failure}"
     title = f"human {reference.grasp.value}, {reference.object_name}; {verdict}"

@@ -16,10 +16,11 @@ as it is.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from graspframe import events
 from graspframe.hal.depth_camera import CameraMount, DepthCamera, DepthImage, Intrinsics
@@ -45,7 +46,7 @@ HEAD_CAMERA = Intrinsics(320, 240, 290.0, 290.0, 160.0, 120.0)
 P_WORLD_HEAD = (0.15, -0.45, 0.8)  # [m]
 
 
-def head_camera(p_world_target) -> CameraMount:
+def head_camera(p_world_target: ArrayLike) -> CameraMount:
     """The head camera looking at `p_world_target` [m] (world up: +z)."""
     T_world_camera = look_at(P_WORLD_HEAD, p_world_target, (0.0, 0.0, 1.0))
     return CameraMount(HEAD_CAMERA, T_world_camera=T_world_camera)
@@ -117,7 +118,7 @@ class _ServoStrategy(_Strategy):
 
     # -- the loop -----------------------------------------------------------------------
 
-    def _servo(self, stage: str, move) -> None:
+    def _servo(self, stage: str, move: Callable[[NDArray[np.float64]], bool]) -> None:
         assert self.owner is not None
         for step in range(1, self.owner.servo.max_steps + 1):
             image, fit = self._measure()
@@ -173,7 +174,7 @@ class _ServoStrategy(_Strategy):
 
     # -- the moves ----------------------------------------------------------------------
 
-    def _move_to_pre_approach_servoed(self, open_q) -> None:
+    def _move_to_pre_approach_servoed(self, open_q: Mapping[str, float]) -> None:
         """The method's move to the pre-approach pose with two looks: before the arm
         moves (its way to the via can sweep through an object 5 cm from the belief) and
         at the via, before the descent."""

@@ -245,5 +245,5 @@ BARRETT = HandDescription(
     couplings=COUPLINGS,
     mass=1.2,
     summary="Barrett BH8-280: 3 fingers, 4 motors (spread + one per finger), 8 joints",
-    extras={FINGERTIP_FRAMES_KEY: FINGERTIP_FRAMES, "thumb": "finger_3"},
+    extras={FINGERTIP_FRAMES_KEY: FINGERTIP_FRAMES},
 )

@@ -14,13 +14,19 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, ClassVar
+from typing import TYPE_CHECKING, ClassVar, Self
 
 import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError, InputError
-from graspframe.hal.classifier import Classifier, ClassifierPicture, HumanGraspEstimate, Neighbour
+from graspframe.hal.classifier import (
+    Classifier,
+    ClassifierOptions,
+    ClassifierPicture,
+    HumanGraspEstimate,
+    Neighbour,
+)
 from graspframe.transforms import R_from_quat_xyzw
 from graspframe.vision.common import unmirror, weighted_vote
 from graspframe.vision.images import check_image
@@ -94,6 +100,11 @@ class HogKnnClassifier(Classifier):
         self.fov_x_deg = fov_x_deg
         self._database: ViewDatabase | None = None
         self._index: NeighbourIndex | None = None
+
+    @classmethod
+    def with_options(cls, options: ClassifierOptions) -> Self:
+        """The classifier with the user's `options.k` (its default when None)."""
+        return cls() if options.k is None else cls(k=options.k)
 
     @classmethod
     def from_database(cls, database: ViewDatabase, **options) -> HogKnnClassifier:

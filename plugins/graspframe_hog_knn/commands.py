@@ -1,14 +1,37 @@
 """`graspframe db build`: (re)build this classifier's synthetic view database.
 
-The core's command line keeps the command's options and help (graspframe/cli.py) and
-calls `db_build_command` here once the registry has the hog_knn classifier; it prints
-its progress and result (rich) and returns an exit code, and raises GraspframeError
-subclasses (one-line messages) for bad input.
+The plugin adds the command `db` to the command line (`DB_COMMAND`, registered by
+plugin.py through the `graspframe_register_commands` hook): its options and help are
+here, the core knows nothing of it. `db_build_command` prints its progress and result
+(rich) and returns an exit code, and raises GraspframeError subclasses (one-line
+messages) for bad input.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from graspframe.hal.commands import PluginCommand
+
+db_app = typer.Typer(help="The synthetic view database of the hog_knn classifier.")
+DB_COMMAND = PluginCommand("db", db_app)
+
+
+@db_app.command("build")
+def db_build(
+    views_per_grasp: Annotated[int, typer.Option(help="Rendered views per grasp.")] = 2000,
+    size: Annotated[int, typer.Option(help="Rendered image side \\[px].")] = 128,
+    workers: Annotated[int, typer.Option(help="Rendering processes.")] = 2,
+    seed: Annotated[int, typer.Option(help="Seed; the same seed gives the same database.")] = 0,
+    out: Annotated[
+        Path | None, typer.Option(help="Output .npz (default: the shipped database).")
+    ] = None,
+) -> None:
+    """(Re)build the synthetic view database of the hog_knn classifier."""
+    raise typer.Exit(db_build_command(views_per_grasp, size, workers, seed, out))
 
 
 def db_build_command(
@@ -20,7 +43,7 @@ def db_build_command(
 ) -> int:
     """(Re)build the synthetic view database of the hog_knn classifier.
 
-    Options (the typer signature of `db build` in graspframe/cli.py):
+    Options (the typer signature of `db_build` above):
       --views-per-grasp N  rendered views per grasp (default 2000; 6 grasps)
       --size PX            rendered image side [px] (default 128, >= 32)
       --workers N          rendering processes (default 2; about one per core)

@@ -18,8 +18,9 @@ Instead of robot preshapes the human hand has one posture per human grasp, named
 grasp (grasp_map is the identity). open_q is the pre-grasp posture (shaped for the object,
 open enough for it to come in along the palm normal), closed_q the closing targets past
 contact with the object; closed_q stays clear of self-collision so the hand reaches it in
-free space. The postures were fitted to the design objects in extras["design_objects"]
-(shapes in the palm frame) by forward kinematics and collision distances (see the doc).
+free space. The postures were fitted to their design objects (each posture's
+`design_object`, POSTURE_OBJECTS: shapes in the palm frame) by forward kinematics and
+collision distances (see the doc).
 """
 
 from __future__ import annotations
@@ -280,9 +281,5 @@ HUMAN = HandDescription(
     couplings=COUPLINGS,
     mass=0.464,  # [kg] sum of the URDF's link masses (0.45 kg of shapes + marker links)
     summary="Human right hand (reference), 190 mm: 20 joints, 16 driven + 4 coupled DIP",
-    extras={
-        "hand_length": HAND_LENGTH,
-        "side": "right",
-        FINGERTIP_FRAMES_KEY: {digit: f"hh_{digit}_tip" for digit in DIGITS},
-    },
+    extras={FINGERTIP_FRAMES_KEY: {digit: f"hh_{digit}_tip" for digit in DIGITS}},
 )

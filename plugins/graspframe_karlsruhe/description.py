@@ -232,6 +232,6 @@ KARLSRUHE_HAND = HandDescription(
     drive=DRIVE,
     mass=MASS,
     summary="Karlsruhe humanoid hand: right, 5 fingers, 8 fluidic (soft) joints, 0..90 deg",
-    extras={"model_frame": MODEL_FRAME, FINGERTIP_FRAMES_KEY: FINGERTIP_FRAMES},
+    extras={FINGERTIP_FRAMES_KEY: FINGERTIP_FRAMES},
     mountings=MOUNTINGS,
 )

@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import math
 
-from graspframe.hal.descriptions import ArmDescription, DriveGains, JointSpec
+from graspframe.hal.arm_datasheet import datasheet_arm, datasheet_joints
+from graspframe.hal.descriptions import ArmDescription
 
 NAME = "kuka"
 MODEL_FILE = "kuka/kuka.urdf"
 BASE_LINK = "kr5_base"
 FLANGE_LINK = "kr5_flange"
-PAYLOAD = 5.0  # [kg] KR 5 spec
 
 # name, lower [deg], upper [deg] (KR 5 spec), max speed [deg/s] (KR 5 spec, the
 # R650 figures: the R850's are not given), max torque [N m] (assumption: about twice the
@@ -31,47 +31,20 @@ _JOINT_TABLE = (
     ("kr5_a5", -120.0, 120.0, 410.0, 25.0),
     ("kr5_a6", -358.0, 358.0, 660.0, 15.0),
 )
-# Assumptions (the KR 5 spec gives no acceleration or jerk): full speed in 0.4 s, full
-# acceleration in 0.1 s; conservative for trajectory generation.
-ACCELERATION_PER_VELOCITY = 2.5  # [1/s]
-JERK_PER_ACCELERATION = 10.0  # [1/s]
-
-JOINTS = tuple(
-    JointSpec(
-        name=name,
-        lower=math.radians(lower_deg),
-        upper=math.radians(upper_deg),
-        max_velocity=math.radians(speed_deg_s),
-        max_effort=effort,
-        max_acceleration=ACCELERATION_PER_VELOCITY * math.radians(speed_deg_s),
-        max_jerk=JERK_PER_ACCELERATION * ACCELERATION_PER_VELOCITY * math.radians(speed_deg_s),
-    )
-    for name, lower_deg, upper_deg, speed_deg_s, effort in _JOINT_TABLE
-)
+JOINTS = datasheet_joints(_JOINT_TABLE)
 
 # Elbow up, flange pointing straight down 0.50 m in front of the base at 0.38 m height,
 # A2 + A3 + A5 = 90 deg (so the flange is vertical). Checked in tests/test_robot_kuka.py.
 HOME_Q_DEG = (0.0, -77.3, 123.6, 0.0, 43.7, 0.0)
 HOME_Q = tuple(math.radians(q) for q in HOME_Q_DEG)
 
-# Assumption: a stiff, well-damped position drive (the simulator backend may tune it).
-# Overdamped: damping ratio about 1.9 (A1) and 1.6 (A2) at home (joint inertia 1.4 and
-# 1.9 kg m^2), more on the light wrist joints, so targets are reached without overshoot.
-DRIVE = DriveGains(stiffness=5.0e4, damping=1.0e3, force_limit=max(e for *_, e in _JOINT_TABLE))
+# The assumed drive (graspframe.hal.arm_datasheet) is overdamped: damping ratio about
+# 1.9 (A1) and 1.6 (A2) at home (joint inertia 1.4 and 1.9 kg m^2), more on the light
+# wrist joints, so targets are reached without overshoot.
 
 
 def arm_description() -> ArmDescription:
     """The KR 5 sixx description (needs the generated URDF in robots/kuka/)."""
-    from graspframe_robots import model_path
-
-    return ArmDescription(
-        name=NAME,
-        model_path=model_path(MODEL_FILE),
-        base_link=BASE_LINK,
-        flange_link=FLANGE_LINK,
-        joints=JOINTS,
-        home_q=HOME_Q,
-        drive=DRIVE,
-        payload=PAYLOAD,
-        summary="KUKA KR 5 sixx R850, 6 DOF industrial arm, 850 mm reach, 5 kg payload",
-    )
+    links = (BASE_LINK, FLANGE_LINK)
+    summary = "KUKA KR 5 sixx R850, 6 DOF industrial arm, 850 mm reach, 5 kg payload"
+    return datasheet_arm(NAME, MODEL_FILE, links, JOINTS, HOME_Q, summary)

@@ -11,13 +11,18 @@ landmarks are relative to the hand.
 
 from __future__ import annotations
 
-from typing import ClassVar
+from typing import ClassVar, Self
 
 import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import InputError, NotAvailableError
-from graspframe.hal.classifier import Classifier, HumanGraspEstimate, Neighbour
+from graspframe.hal.classifier import (
+    Classifier,
+    ClassifierOptions,
+    HumanGraspEstimate,
+    Neighbour,
+)
 from graspframe.vision import hands
 from graspframe.vision.common import NoHandFoundError, weighted_vote
 from graspframe.vision.images import check_image
@@ -82,6 +87,11 @@ class LandmarkClassifier(Classifier):
         if k < 1:
             raise InputError(f"k must be >= 1, got {k}")
         self.k = k
+
+    @classmethod
+    def with_options(cls, options: ClassifierOptions) -> Self:
+        """The classifier with the user's `options.k` (its default when None)."""
+        return cls() if options.k is None else cls(k=options.k)
 
     def classify(self, image_bgr: NDArray[np.uint8]) -> HumanGraspEstimate:
         """Estimate the grasp in a BGR uint8 image; raises InputError, NotAvailableError

@@ -1,11 +1,12 @@
 """The human model's grasp postures as landmark points and angle features.
 
-Each grasp's posture of the human hand model (graspframe_human: open_q, closed_q [rad])
-is sampled at closures 0..1 (q = open + closure (closed - open), DIPs at 2/3 of their
-PIP) and placed by forward kinematics of the model's URDF. The landmark-equivalent
-points (MediaPipe's layout, see features.py) are frame origins in the model's root frame
-hh_wrist [m]: the wrist, the thumb's CMC (hh_thumb_cmc_abd), MCP, IP joints and tip
-marker, and per finger its MCP, PIP, DIP joints and tip marker (hh_<digit>_tip).
+Each grasp's posture of the human hand model (the registered hand `human`, asked of the
+registry: open_q, closed_q [rad]) is sampled at closures 0..1 (q = open + closure
+(closed - open), DIPs at 2/3 of their PIP) and placed by forward kinematics of the
+model's URDF. The landmark-equivalent points (MediaPipe's layout, see features.py) are
+frame origins in the model's root frame hh_wrist [m]: the wrist, the thumb's CMC
+(hh_thumb_cmc_abd), MCP, IP joints and tip marker, and per finger its MCP, PIP, DIP
+joints and tip marker (hh_<digit>_tip).
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from numpy.typing import NDArray
 from graspframe.grasps import HumanGrasp
 from graspframe_landmarks.features import angle_features
 
+HUMAN_HAND = "human"  # the registered hand whose postures are the database
 CLOSURES = np.linspace(0.0, 1.0, 21)  # [-] 0 open posture, 1 closed posture
 LANDMARK_FRAMES = (
     "hh_wrist",
@@ -50,13 +52,12 @@ GRASP_ORDER = tuple(HumanGrasp)
 class HumanModelLandmarks:
     """Forward kinematics of the human hand model to landmark-equivalent points."""
 
-    def __init__(self):
-        from graspframe_human.description import HUMAN
-
+    def __init__(self) -> None:
+        from graspframe.registry import get_hand
         from graspframe.robot_model import CollisionModel
 
-        self.hand = HUMAN
-        self.model = CollisionModel(HUMAN.urdf())
+        self.hand = get_hand(HUMAN_HAND)
+        self.model = CollisionModel(self.hand.urdf())
 
     def posture(self, grasp: HumanGrasp, closure: float) -> dict[str, float]:
         """Joint positions [rad] at `closure` between the grasp's open and closed q."""
