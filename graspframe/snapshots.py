@@ -274,7 +274,12 @@ def _place_moments(
     return moments
 
 
-def _bodies(figure: RobotFigure, T_world_root, T_world_palm, placed_object: Placed) -> _Bodies:
+def _bodies(
+    figure: RobotFigure,
+    T_world_root: NDArray[np.float64],
+    T_world_palm: NDArray[np.float64],
+    placed_object: Placed,
+) -> _Bodies:
     """The figure's hand links, its arm links near the palm (translucent), the object."""
     links = figure.placed_links(T_world_root)
     hand = [p for link, p in links.items() if figure.is_hand_link(link)]
