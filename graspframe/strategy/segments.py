@@ -18,52 +18,19 @@ happens (`approach_line`).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from graspframe.strategy.planner import GraspPlan
+from graspframe.motion.palm_line import PalmLine
+
+if TYPE_CHECKING:  # the held test builds its lift here without loading the planner
+    from graspframe.strategy.planner import GraspPlan
 
 MIN_DESCENT = 1e-6  # [m] a shorter descent from the via to the pre-approach pose is skipped
 UP = np.array([0.0, 0.0, 1.0])
-
-
-@dataclass(frozen=True)
-class PalmLine:
-    """A straight palm move: from T_world_palm_start along the world direction
-    `direction` (any length: it is made unit where it is used, as ArmMotion does) by
-    `distance` [m] at `speed` [m/s], the palm's orientation kept."""
-
-    name: str
-    T_world_palm_start: NDArray[np.float64]
-    direction: NDArray[np.float64]
-    distance: float
-    speed: float
-
-    @property
-    def T_world_palm_end(self) -> NDArray[np.float64]:
-        return self.T_world_palm_at(self.distance)
-
-    @property
-    def unit_direction(self) -> NDArray[np.float64]:
-        return self.direction / np.linalg.norm(self.direction)
-
-    def T_world_palm_at(self, s: float) -> NDArray[np.float64]:
-        """The palm pose `s` [m] along the line."""
-        T = self.T_world_palm_start.copy()
-        T[:3, 3] += s * self.unit_direction
-        return T
-
-    def waypoints(self, control_period: float) -> list[NDArray[np.float64]]:
-        """The palm poses the controller tracks, one per control cycle [s]: every
-        speed * control_period along the line, the last at its end."""
-        n = math.ceil(self.distance / self.speed / control_period)
-        return [
-            self.T_world_palm_at(min(k * control_period * self.speed, self.distance))
-            for k in range(1, n + 1)
-        ]
 
 
 def line(
@@ -90,6 +57,31 @@ class PalmPath:
     def lines(self) -> list[PalmLine]:
         return [s for s in (self.descent, self.approach, self.back_off, self.lift) if s]
 
+    def shifted(self, shift_world: NDArray[np.float64]) -> PalmPath:
+        """The whole path moved by `shift_world` [m] (the servo strategy's corrections)."""
+
+        def moved(segment: PalmLine | None) -> PalmLine | None:
+            if segment is None:
+                return None
+            return segment.started_at(moved_pose(segment.T_world_palm_start, shift_world))
+
+        approach = moved(self.approach)
+        assert approach is not None
+        return PalmPath(
+            moved_pose(self.T_world_palm_via, shift_world),
+            moved(self.descent),
+            approach,
+            moved(self.back_off),
+            moved(self.lift),
+        )
+
+
+def moved_pose(T: NDArray[np.float64], shift_world: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The pose T translated by `shift_world` [m] (world frame)."""
+    T_moved = T.copy()
+    T_moved[:3, 3] += shift_world
+    return T_moved
+
 
 def approach_line(
     plan: GraspPlan, T_world_palm_goal: NDArray[np.float64], distance: float, speed: float
@@ -100,6 +92,31 @@ def approach_line(
     start = np.asarray(T_world_palm_goal, dtype=float).copy()
     start[:3, 3] -= distance * (a / np.linalg.norm(a))
     return PalmLine("approach", start, a, float(distance), speed)
+
+
+def retreat_line(
+    plan: GraspPlan, T_world_palm_from: NDArray[np.float64], distance: float, speed: float
+) -> PalmLine:
+    """Back along the plan's approach direction by `distance` [m] from T_world_palm_from:
+    the volar loop's retreat from a contact that asks for a corrected goal."""
+    a = np.asarray(plan.a_world, dtype=float)
+    return PalmLine("retreat", np.asarray(T_world_palm_from, dtype=float), -a, distance, speed)
+
+
+def lift_line(T_world_palm_from: NDArray[np.float64], height: float, speed: float) -> PalmLine:
+    """The held test's lift: straight up (world +z) by `height` [m] from
+    T_world_palm_from."""
+    return PalmLine("lift", np.asarray(T_world_palm_from, dtype=float), UP, height, speed)
+
+
+def sideways_line(
+    T_world_palm_from: NDArray[np.float64], shift_world: NDArray[np.float64], speed: float
+) -> PalmLine:
+    """A short move by the world vector `shift_world` [m] from T_world_palm_from: the
+    servo strategy's correction at the standoff."""
+    distance = float(np.linalg.norm(shift_world))
+    start = np.asarray(T_world_palm_from, dtype=float)
+    return PalmLine("standoff shift", start, shift_world / distance, distance, speed)
 
 
 def palm_path(
@@ -128,5 +145,5 @@ def palm_path(
         T_world_palm_held = back_off.T_world_palm_end
     lift = None
     if lift_height is not None and lift_speed is not None:
-        lift = line("lift", T_world_palm_held, lift_height * UP, lift_speed)
+        lift = lift_line(T_world_palm_held, lift_height, lift_speed)
     return PalmPath(plan.T_world_palm_via, descent, approach, back_off, lift)
