@@ -310,7 +310,7 @@ def _policy(
     position."""
     plan, params = checked.plan, checked.executor_params
     if inputs.camera_cls is None:
-        return MethodStrategy(plan, inputs.hand, inputs.obj, params, config.table_height)
+        return MethodStrategy(plan, inputs.hand, inputs.obj, params)
     from graspframe.strategy.servo import ServoStrategy, head_camera
 
     return ServoStrategy(

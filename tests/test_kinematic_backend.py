@@ -16,7 +16,6 @@ from graspframe.hal import ObjectDescription, WorldConfig
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.mounting import mount
 from graspframe.registry import default_registry
-from graspframe.strategy import executor
 from graspframe.strategy.arm_path import choose_plan
 from graspframe.strategy.execution import ExecutionLog, GraspOutcome, run_policy
 from graspframe.strategy.executor import MethodStrategy
@@ -200,44 +199,3 @@ def test_the_kinematic_world_is_deterministic():
     (T_first, points_first), (T_second, points_second) = final_state(), final_state()
     assert np.array_equal(T_first, T_second)
     assert np.array_equal(np.array(points_first), np.array(points_second))
-
-
-def test_the_corrections_the_executor_drives_come_from_the_segment_builder(monkeypatch):
-    """The volar loop's retreat and corrected approach are built by segments.py (as the
-    executor imports them): what the builder returns is what the arm follows."""
-    built_retreat, built_approach = executor.retreat_line, executor.approach_line
-    followed: list[str] = []
-    follow = ArmMotion.follow
-
-    def recording_follow(self, line, *args, **kwargs):
-        followed.append(line.name)
-        return follow(self, line, *args, **kwargs)
-
-    def tagged(builder, tag):
-        return lambda *a, **k: dataclasses.replace(builder(*a, **k), name=tag)
-
-    monkeypatch.setattr(ArmMotion, "follow", recording_follow)
-    monkeypatch.setattr(executor, "retreat_line", tagged(built_retreat, "built retreat"))
-    monkeypatch.setattr(executor, "approach_line", tagged(built_approach, "built approach"))
-    outcome, _, _, _ = _run("barrett", G.LARGE_DIAMETER, object_error=np.array([0.0, 0.03]))
-    assert outcome.corrections >= 1
-    assert followed.count("built retreat") == outcome.corrections
-    assert followed.count("built approach") == outcome.corrections
-    # A retreat is followed by the approach to the corrected goal.
-    assert followed[followed.index("built retreat") + 1] == "built approach"
-
-
-def test_a_correction_whose_path_collides_is_refused(monkeypatch):
-    """Each correction is checked as a plan's path is before the arm drives it: a retreat
-    built 20 cm down into the table is refused, and the grasp ends saying why."""
-    built_retreat = executor.retreat_line
-
-    def sunk_retreat(*args, **kwargs):
-        line = built_retreat(*args, **kwargs)
-        return dataclasses.replace(line, direction=np.array([0.0, 0.0, -1.0]), distance=0.2)
-
-    monkeypatch.setattr(executor, "retreat_line", sunk_retreat)
-    outcome, events, _, _ = _run("barrett", G.LARGE_DIAMETER, object_error=np.array([0.0, 0.03]))
-    assert outcome.aborted is not None and "the retreat" in outcome.aborted
-    assert "table" in outcome.aborted
-    assert "execute.aborted" in _stages(events)

@@ -13,15 +13,13 @@ graspframe/events.py.
 
 from __future__ import annotations
 
-import functools
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
 from graspframe import events
-from graspframe.defaults import TABLE_HEIGHT
 from graspframe.errors import MotionError
 from graspframe.grasps import PALM
 from graspframe.hal.descriptions import HandDescription
@@ -31,7 +29,6 @@ from graspframe.motion.arm_motion import ArmMotion
 from graspframe.motion.palm_line import PalmLine
 from graspframe.strategy.execution import ExecutionLog, Grip
 from graspframe.strategy.held_test import HeldTest
-from graspframe.strategy.path_check import PathRefused, Rule, SegmentChecker
 from graspframe.strategy.planner import GraspPlan
 from graspframe.strategy.segments import PalmPath, approach_line, palm_path, retreat_line
 from graspframe.transforms import inv_T
@@ -92,12 +89,9 @@ class MethodStrategy:
     hand: HandDescription
     obj: ObjectDescription
     params: ExecutorParams = ExecutorParams()
-    table_height: float = TABLE_HEIGHT  # [m] where the corrections are checked against
 
     def grasp(self, world: World, motion: ArmMotion, log: ExecutionLog) -> Grip:
-        return _Strategy(
-            self.plan, world, motion, self.hand, self.obj, self.params, log, self.table_height
-        ).run()
+        return _Strategy(self.plan, world, motion, self.hand, self.obj, self.params, log).run()
 
 
 @dataclass
@@ -111,47 +105,10 @@ class _Strategy:
     obj: ObjectDescription
     p: ExecutorParams
     log: ExecutionLog
-    table_height: float  # [m]
 
     def __post_init__(self) -> None:
-        # The segments to drive: the plan's (checked with it), then as corrected; a path
-        # shifted at run time (the servo strategy) is checked segment by segment.
         self.path = planned_path(self.plan, self.p)
-        self.path_checked = True
         self.emit = self.log.emit
-
-    # -- segments decided at run time, checked before they are driven -------------------
-
-    @functools.cached_property
-    def _segment_check(self) -> SegmentChecker:
-        """The plan's path check (path_check.py), built at the first correction."""
-        motion = self.motion
-        return SegmentChecker(
-            self.plan, motion.robot, motion.T_world_base, self.hand, self.obj, self.table_height
-        )
-
-    def _refuse_if_colliding(
-        self, name: str, path: Sequence[NDArray[np.float64]], rule: Rule
-    ) -> None:
-        problem = self._segment_check.problem(name, path, rule)
-        if problem is not None:
-            raise PathRefused(problem)
-
-    def _checked_line(self, name: str, line: PalmLine, rule: Rule = Rule.REACHING) -> None:
-        """Refuse `line` when, followed from the arm's commanded joints, it would touch
-        what `rule` forbids (PathRefused)."""
-        motion = self.motion
-        tracked = self._segment_check.tracked(
-            motion.q_ik, line.started_at(motion.T_world_palm_commanded())
-        )
-        self._refuse_if_colliding(name, tracked, rule)
-
-    def _checked_move_palm_to(self, name: str, T_world_palm: NDArray[np.float64]) -> float:
-        """`ArmMotion.move_palm_to` with the joint move checked first; its duration [s]."""
-        q_from = self.motion.q_ik.copy()
-        q_to = self.motion.solve_palm(T_world_palm)
-        self._refuse_if_colliding(name, self._segment_check.joint_move(q_from, q_to), Rule.CLEAR)
-        return self.motion.move_to_joints(q_to)
 
     def run(self) -> Grip:
         preshape = self.hand.preshape(self.plan.preshape)
@@ -181,18 +138,11 @@ class _Strategy:
         plan, motion = self.plan, self.motion
         self.world.hand.set_joint_targets(open_q)
         self.emit(events.EXECUTE_PRESHAPE, preshape=plan.preshape)
-        if self.path_checked:
-            duration = motion.move_palm_to(self.path.T_world_palm_via)
-        else:
-            duration = self._checked_move_palm_to(
-                "the move to the shifted via", self.path.T_world_palm_via
-            )
+        duration = motion.move_palm_to(self.path.T_world_palm_via)
         if at_via is not None:
             at_via()
         descent = self.path.descent
         if descent is not None:
-            if not self.path_checked:
-                self._checked_line("the shifted descent", descent, Rule.CLEAR)
             duration += motion.follow(descent, stop_on_contact=False).duration
         self.emit(
             events.EXECUTE_PRE_APPROACH,
@@ -203,8 +153,6 @@ class _Strategy:
     def _approach_non_volar(self) -> bool:
         """Straight to the standoff goal, no feedback; returns whether the palm touches."""
         approach = self.path.approach
-        if not self.path_checked:
-            self._checked_line("the shifted approach", approach)
         result = self.motion.follow(approach, stop_on_contact=False)
         self.emit(
             events.EXECUTE_APPROACH, travel=result.travel, stopped=False, cycles=result.cycles
@@ -222,8 +170,6 @@ class _Strategy:
         goals = [T_goal[:3, 3].tolist()]
         alpha, corrections = p.alpha_start, 0
         while True:
-            if corrections:
-                self._checked_line("the corrected approach", approach)
             result = motion.follow(approach.extended(p.approach_overshoot))
             emit(
                 events.EXECUTE_APPROACH,
@@ -283,7 +229,6 @@ class _Strategy:
         retreat = retreat_line(
             self.plan, self.motion.T_world_palm_commanded(), distance, self.p.approach_speed
         )
-        self._checked_line("the retreat", retreat)
         self.motion.follow(retreat, stop_on_contact=False)
 
     def _to_corrected_start(
@@ -293,18 +238,15 @@ class _Strategy:
         distance back from it, or, when the arm cannot reach that (a low goal near the
         arm's base), as far back as the hand just retreated. Returns that approach (at
         `speed` [m/s])."""
-        to_start = "the move to the corrected approach"
         try:
             approach = approach_line(
                 self.plan, T_world_palm_goal, self.plan.pre_approach_distance, speed
             )
-            self._checked_move_palm_to(to_start, approach.T_world_palm_start)
-        except PathRefused:
-            raise
+            self.motion.move_palm_to(approach.T_world_palm_start)
         except MotionError:
             d_start = max(retreated, self.p.min_retreat)
             approach = approach_line(self.plan, T_world_palm_goal, d_start, speed)
-            self._checked_move_palm_to(to_start, approach.T_world_palm_start)
+            self.motion.move_palm_to(approach.T_world_palm_start)
         return approach
 
     def _back_off(self) -> None:

@@ -28,7 +28,6 @@ from enum import Enum
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import MotionError
 from graspframe.hal.descriptions import HandDescription, joints_by_name
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import CONTROL_PERIOD, track_waypoint
@@ -40,11 +39,6 @@ from graspframe.mounting import MountedRobot
 from graspframe.robot_model import summarize_urdf
 from graspframe.strategy.planner import GraspPlan
 from graspframe.transforms import inv_T
-
-
-class PathRefused(MotionError):
-    """A segment decided while the strategy runs (a correction) would touch the table or
-    the object: it is refused, as a plan's path would be; the message says where."""
 
 
 class Rule(Enum):

@@ -80,15 +80,7 @@ class ServoStrategy:
 
     def grasp(self, world: World, motion: ArmMotion, log: ExecutionLog) -> Grip:
         return _ServoStrategy(
-            self.plan,
-            world,
-            motion,
-            self.hand,
-            self.obj,
-            self.params,
-            log,
-            self.config.table_height,
-            self,
+            self.plan, world, motion, self.hand, self.obj, self.params, log, self
         ).run()
 
 
@@ -190,14 +182,14 @@ class _ServoStrategy(_Strategy):
     def _shift_plan(self, shift: NDArray[np.float64]) -> bool:
         """Shift the whole path by `shift` [m] before the arm moves."""
         self.T_goal = moved_pose(self.T_goal, shift)
-        self.path, self.path_checked = self.path.shifted(shift), False
+        self.path = self.path.shifted(shift)
         return True
 
     def _shift_via(self, shift: NDArray[np.float64]) -> bool:
         """Shift the via, and the path after it, by `shift` [m] and go to the new via."""
         self.T_goal = moved_pose(self.T_goal, shift)
-        self.path, self.path_checked = self.path.shifted(shift), False
-        self._checked_move_palm_to("the move to the shifted via", self.path.T_world_palm_via)
+        self.path = self.path.shifted(shift)
+        self.motion.move_palm_to(self.path.T_world_palm_via)
         return True
 
     def _shift_approach(self, shift: NDArray[np.float64]) -> bool:
@@ -205,8 +197,8 @@ class _ServoStrategy(_Strategy):
         self.T_goal = moved_pose(self.T_goal, shift)
         planned = self.path.approach
         approach = approach_line(self.plan, self.T_goal, planned.distance, planned.speed)
-        self._checked_move_palm_to("the move to the shifted approach", approach.T_world_palm_start)
-        self.path, self.path_checked = replace(self.path, approach=approach), False
+        self.motion.move_palm_to(approach.T_world_palm_start)
+        self.path = replace(self.path, approach=approach)
         return True
 
     def _shift_at_standoff(self, shift: NDArray[np.float64]) -> bool:
@@ -217,6 +209,5 @@ class _ServoStrategy(_Strategy):
             return False
         self.T_goal = moved_pose(self.T_goal, shift)
         sideways = sideways_line(self.motion.T_world_palm_commanded(), shift, self.p.approach_speed)
-        self._checked_line("the sideways correction at the standoff", sideways)
         self.motion.follow(sideways, stop_on_contact=False)
         return True
