@@ -4,10 +4,11 @@ One control cycle (CONTROL_PERIOD): the ruckig online generator yields the next 
 setpoint within the arm's velocity, acceleration and jerk limits, the arm driver gets it
 as its target, and the world advances by the physics steps of one cycle. While the arm
 holds still (the hand closing, the hold, the held test's waits) `idle` runs the world in
-the same cycles, so observers hear of every cycle of a grasp. A straight-line
-palm move solves IK (warm-started) for the waypoint one cycle ahead and hands it to
-ruckig; when asked to, it checks the palm sensor after every cycle and brakes at the first
-contact, so the stop begins within one control cycle of the touch.
+the same cycles, so observers hear of every cycle of a grasp. A straight palm move
+(`follow` a `PalmLine`, motion/palm_line.py) solves IK (warm-started) for the waypoint
+one cycle ahead and hands it to ruckig; when asked to, it checks the palm sensor after
+every cycle and brakes at the first contact, so the stop begins within one control
+cycle of the touch.
 """
 
 from __future__ import annotations

@@ -11,9 +11,11 @@ the hand; the lift may not touch the table with the arm).
 
 The volar strategy's corrections (a retreat and an approach to a corrected goal, decided
 by a contact) and the servo strategy's shifted segments cannot be checked before the
-contact or the look that asks for them; the strategy checks each the same way before it
-drives it. The first variant that passes wins; when none does, the plan is refused with
-the reason of each variant tried.
+contact or the look that asks for them; they are built by segments.py too, but not
+checked while the strategy runs (checked with these rules, a correction of experiment B
+that holds would be refused: a link 5.0 mm from the table against the 5 mm margin). The
+first variant that passes wins; when none does, the plan is refused with the reason of
+each variant tried.
 
 The variants are first tried with the hand's root link bolted straight onto the flange,
 then through each adapter the hand declares (`HandDescription.mountings`), in order. An

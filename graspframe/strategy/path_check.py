@@ -1,6 +1,5 @@
-"""Checking the motion segments of a grasp for collisions, the same way before anything
-moves (a plan's path: strategy/arm_path.py) and while the strategy runs (a correction it
-decides after a contact or a look: executor.py, servo.py).
+"""Checking the motion segments of a grasp for collisions (a plan's path, before anything
+moves: strategy/arm_path.py).
 
 A segment is checked at the configurations the controller passes through: a jerk-limited
 joint move sampled every control period (ruckig, from rest to rest), a straight palm
@@ -9,11 +8,10 @@ controller tracks them (arm_motion.track_waypoint). The hand is in its open pres
 the table and the object where the robot believes it are the obstacles, and which links
 may touch what depends on the kind of segment (`Rule`):
 
-- a joint move (the transfer, a move to a corrected start): no robot link may touch
-  either;
+- a joint move (the transfer): no robot link may touch either;
 - the descent to the pre-approach pose: the same;
-- an approach, a back-off, a retreat, a sideways correction at the standoff: no arm link
-  may touch either, no hand link the table (the hand is meant to reach the object);
+- an approach, a back-off: no arm link may touch either, no hand link the table (the
+  hand is meant to reach the object);
 - the lift: no arm link may touch the table (the object rises with the hand).
 """
 
@@ -46,7 +44,7 @@ class Rule(Enum):
     the module docstring)."""
 
     CLEAR = "clear"  # joint moves, the descent
-    REACHING = "reaching"  # approaches, back-offs, retreats, sideways corrections
+    REACHING = "reaching"  # approaches, back-offs
     LIFTING = "lifting"  # the lift
 
 

@@ -1,5 +1,6 @@
 """The palm's path for a plan: the motion segments the method's strategy drives, built in
-one place for the executor that drives them and the collision check that checks them.
+one place for the executor that drives them and the collision check that checks them
+(arm_path.py).
 
 - transfer: a jerk-limited joint move from the arm's home to the via pose;
 - descent: a straight palm line from the via to the pre-approach pose;
@@ -7,13 +8,17 @@ one place for the executor that drives them and the collision check that checks 
   may go on past the goal by the overshoot, looking for its first contact: that part
   is a search into the object and is not checked);
 - back-off: back along the approach by the plan's volar gap (volar plans that back off);
-- lift: straight up by the held test's lift height.
+- lift: straight up by the held test's lift height (`lift_line`, which the held test
+  drives).
 
-A straight line is driven one waypoint per control cycle (`PalmLine.waypoints`: the
-points ArmMotion.move_palm_linear tracks), and checked at those same waypoints. The
-volar strategy's corrections (a retreat along the approach, then an approach to a
-corrected goal) are the same kind of line, built when the contact that asks for them
-happens (`approach_line`).
+A straight line (`PalmLine`, motion/palm_line.py) is driven one waypoint per control
+cycle (`PalmLine.waypoints`, followed by `ArmMotion.follow` from the arm's commanded
+palm pose), and checked at those same waypoints. The corrections decided while the
+strategy runs are built here too, when the contact or the look that asks for them
+happens: the volar loop's retreat (`retreat_line`) and its approach to a corrected goal
+(`approach_line`, after a joint move to its start), the servo strategy's shifted path
+(`PalmPath.shifted`, `approach_line`) and its sideways move at the standoff
+(`sideways_line`). Those are not collision-checked (arm_path.py says why).
 """
 
 from __future__ import annotations
