@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from graspframe.motion.palm_line import PalmLine
 
-if TYPE_CHECKING:  # the held test builds its lift here without loading the planner
+if TYPE_CHECKING:  # plans are only read here: the held test's lift needs no planner
     from graspframe.strategy.planner import GraspPlan
 
 MIN_DESCENT = 1e-6  # [m] a shorter descent from the via to the pre-approach pose is skipped
