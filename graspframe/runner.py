@@ -55,9 +55,8 @@ from graspframe.scoring import score_grasp
 from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
 from graspframe.strategy.arm_path import CheckedPlan, choose_plan, floating_plan
 from graspframe.strategy.execution import Execution, GraspPolicy, execute
-from graspframe.strategy.executor import ExecutorParams, MethodStrategy
+from graspframe.strategy.executor import MethodStrategy
 from graspframe.strategy.held_test import object_probe
-from graspframe.strategy.planner import GraspPlan
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 
@@ -276,7 +275,7 @@ def _run_stages(
         table_height=TABLE_HEIGHT,
         seed=request.seed,
     )
-    policy = _policy(inputs, checked.plan, config, T_world_object_est)
+    policy = _policy(inputs, checked, config, T_world_object_est)
     stages.execution = execution = _execute_in_world(
         inputs, checked, config, policy, T_world_object_est, recorder, progress
     )
@@ -301,15 +300,17 @@ def _run_stages(
 
 def _policy(
     inputs: RunInputs,
-    plan: GraspPlan,
+    checked: CheckedPlan,
     config: WorldConfig,
     T_world_object_est: NDArray[np.float64],
 ) -> GraspPolicy:
-    """The run's strategy: the method's, or the servo strategy when the request names a
-    camera for it (`RunInputs.camera_cls`), its head camera looking at the believed
-    object position."""
+    """The run's strategy, driving the segments the plan was checked with (its executor
+    settings): the method's, or the servo strategy when the request names a camera for
+    it (`RunInputs.camera_cls`), its head camera looking at the believed object
+    position."""
+    plan, params = checked.plan, checked.executor_params
     if inputs.camera_cls is None:
-        return MethodStrategy(plan, inputs.hand, inputs.obj, ExecutorParams())
+        return MethodStrategy(plan, inputs.hand, inputs.obj, params)
     from graspframe.strategy.servo import ServoStrategy, head_camera
 
     return ServoStrategy(
@@ -320,6 +321,7 @@ def _policy(
         inputs.camera_cls,
         head_camera(T_world_object_est[:3, 3]),
         T_world_object_est,
+        params=params,
         seed=config.seed,
         noise_scale=inputs.camera_noise,
     )

@@ -16,6 +16,7 @@ from graspframe.hal import ObjectDescription, WorldConfig
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.mounting import mount
 from graspframe.registry import default_registry
+from graspframe.strategy import executor
 from graspframe.strategy.arm_path import choose_plan
 from graspframe.strategy.execution import ExecutionLog, GraspOutcome, run_policy
 from graspframe.strategy.executor import MethodStrategy
@@ -199,3 +200,57 @@ def test_the_kinematic_world_is_deterministic():
     (T_first, points_first), (T_second, points_second) = final_state(), final_state()
     assert np.array_equal(T_first, T_second)
     assert np.array_equal(np.array(points_first), np.array(points_second))
+
+
+def test_the_corrections_the_executor_drives_come_from_the_segment_builder(monkeypatch):
+    """The volar loop's retreat and corrected approach are built by segments.py (as the
+    executor imports them): what the builder returns is what the arm follows."""
+    built_retreat, built_approach = executor.retreat_line, executor.approach_line
+    followed: list[str] = []
+    follow = ArmMotion.follow
+
+    def recording_follow(self, line, *args, **kwargs):
+        followed.append(line.name)
+        return follow(self, line, *args, **kwargs)
+
+    def tagged(builder, tag):
+        return lambda *a, **k: dataclasses.replace(builder(*a, **k), name=tag)
+
+    monkeypatch.setattr(ArmMotion, "follow", recording_follow)
+    monkeypatch.setattr(executor, "retreat_line", tagged(built_retreat, "built retreat"))
+    monkeypatch.setattr(executor, "approach_line", tagged(built_approach, "built approach"))
+    outcome, _, _, _ = _run("barrett", G.LARGE_DIAMETER, object_error=np.array([0.0, 0.03]))
+    assert outcome.corrections >= 1
+    assert followed.count("built retreat") == outcome.corrections
+    assert followed.count("built approach") == outcome.corrections
+    # A retreat is followed by the approach to the corrected goal.
+    assert followed[followed.index("built retreat") + 1] == "built approach"
+
+
+def test_a_changed_builder_changes_the_retreat_the_executor_drives(monkeypatch):
+    """A retreat built 2 cm shorter by segments.py is 2 cm shorter where the arm drives it."""
+    built_retreat = executor.retreat_line
+    retreats: list[float] = []
+
+    def shorter(*args, **kwargs):
+        line = built_retreat(*args, **kwargs)
+        return dataclasses.replace(line, distance=line.distance - 0.02)
+
+    follow = ArmMotion.follow
+
+    def recording_follow(self, line, *args, **kwargs):
+        result = follow(self, line, *args, **kwargs)
+        if line.name == "retreat":
+            retreats.append((line.distance, result.travel))
+        return result
+
+    monkeypatch.setattr(ArmMotion, "follow", recording_follow)
+    error = np.array([0.0, 0.03])
+    _run("barrett", G.LARGE_DIAMETER, object_error=error)
+    (planned, driven), *_ = retreats
+    monkeypatch.setattr(executor, "retreat_line", shorter)
+    retreats.clear()
+    _run("barrett", G.LARGE_DIAMETER, object_error=error)
+    (planned_shorter, driven_shorter), *_ = retreats
+    assert planned_shorter == pytest.approx(planned - 0.02)
+    assert driven_shorter == pytest.approx(driven - 0.02, abs=1e-3)

@@ -15,7 +15,7 @@ from graspframe.experiments.trials import TrialSpec
 from graspframe.grasps import HumanGrasp
 from graspframe.run_request import RunRequest
 from graspframe.runner import run_grasp
-from graspframe.strategy.servo import TOLERANCE
+from graspframe.strategy.servo import ServoParams
 
 ERROR = (0.05, 0.0)  # [m] the object 5 cm from the belief along -x of the belief
 
@@ -43,9 +43,8 @@ def test_the_servo_holds_a_pinch_the_method_misses(tmp_path):
     # The first look, before the arm moves, shifts the path by the error.
     assert np.allclose(first["correction_mm"], [-50.0, 0.0], atol=3.0)
     # Then every later measurement agrees within the tolerance, and nothing moves again.
-    assert all(
-        np.hypot(*step["fit"]["shift_mm"]) < 1000 * TOLERANCE for step in servo.servo.steps[1:]
-    )
+    tolerance_mm = 1000 * ServoParams().tolerance
+    assert all(np.hypot(*step["fit"]["shift_mm"]) < tolerance_mm for step in servo.servo.steps[1:])
     stages = {step["stage"] for step in servo.servo.steps}
     assert stages == {"start", "via", "pre-approach", "standoff"}
     saved = json.loads(servo.result_path.read_text())

@@ -22,10 +22,9 @@ from graspframe.run_request import RunRequest
 from graspframe.runner import run_grasp
 from graspframe.strategy import executor
 from graspframe.strategy.arm_path import choose_plan, path_problem
-from graspframe.strategy.executor import CENTRING_TOLERANCE
+from graspframe.strategy.executor import ExecutorParams
 from graspframe.strategy.hand_geometry import closing_configurations, lowest_hand_point
 from graspframe.strategy.planner import (
-    TABLE_CLEARANCE,
     PlannerParams,
     PlanningError,
     approach_direction,
@@ -153,8 +152,8 @@ def test_the_whole_hand_clears_the_table_at_the_goal(hand_name, grasp):
     preshape = hand.preshape(plan.preshape)
     configurations = closing_configurations(hand, preshape, obj, inv_T(plan.T_object_palm))
     lowest = lowest_hand_point(hand, configurations, plan.T_world_palm_goal[:3, :3])
-    assert plan.T_world_palm_goal[2, 3] + lowest >= TABLE_CLEARANCE - 1e-9
-    assert plan.min_goal_height == pytest.approx(TABLE_CLEARANCE - lowest, abs=1e-6)
+    assert plan.T_world_palm_goal[2, 3] + lowest >= PlannerParams().table_clearance - 1e-9
+    assert plan.min_goal_height == pytest.approx(PlannerParams().table_clearance - lowest, abs=1e-6)
 
 
 def test_a_stop_direction_keeps_the_objects_rim_at_the_stopping_fingers():
@@ -386,7 +385,7 @@ def test_volar_grasp_with_object_error_corrects_towards_the_true_object(runs_dir
 
     goals = result["outcome"]["goals"]
     assert miss(goals[0]) > 0.03  # the believed can is well off across the approach
-    assert miss(goals[-1]) < CENTRING_TOLERANCE + 0.005
+    assert miss(goals[-1]) < ExecutorParams().centring_tolerance + 0.005
     assert result["outcome"]["palm_contact"] and result["outcome"]["success"]
 
 

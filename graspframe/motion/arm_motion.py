@@ -4,10 +4,11 @@ One control cycle (CONTROL_PERIOD): the ruckig online generator yields the next 
 setpoint within the arm's velocity, acceleration and jerk limits, the arm driver gets it
 as its target, and the world advances by the physics steps of one cycle. While the arm
 holds still (the hand closing, the hold, the held test's waits) `idle` runs the world in
-the same cycles, so observers hear of every cycle of a grasp. A straight-line
-palm move solves IK (warm-started) for the waypoint one cycle ahead and hands it to
-ruckig; when asked to, it checks the palm sensor after every cycle and brakes at the first
-contact, so the stop begins within one control cycle of the touch.
+the same cycles, so observers hear of every cycle of a grasp. A straight palm move
+(`follow` a `PalmLine`, motion/palm_line.py) solves IK (warm-started) for the waypoint
+one cycle ahead and hands it to ruckig; when asked to, it checks the palm sensor after
+every cycle and brakes at the first contact, so the stop begins within one control
+cycle of the touch.
 """
 
 from __future__ import annotations
@@ -23,11 +24,13 @@ from graspframe.errors import GraspframeError, MotionError
 from graspframe.hal.drivers import World
 from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.motion.ik import IkSolver, describe_pose
+from graspframe.motion.palm_line import PalmLine
 from graspframe.motion.trajectory import JointLimits, OnlineTrajectory
 from graspframe.transforms import inv_T
 
 CONTROL_PERIOD = 0.01  # [s] 100 Hz arm control
 SETTLE_TIME_LIMIT = 3.0  # [s] longest wait for a braking or finishing move to come to rest
+JOINT_MOVE_TIME_LIMIT = 30.0  # [s] longest a joint move may take before it counts as stuck
 # Waypoint velocities handed to ruckig are scaled to at most this part of the joint
 # velocity limits (near a wrist singularity a slow palm line needs fast wrist joints).
 WAYPOINT_SPEED_FRACTION = 0.5
@@ -162,7 +165,9 @@ class ArmMotion:
             cycles += 1
         return cycles
 
-    def move_to_joints(self, q_goal: NDArray[np.float64], time_limit: float = 30.0) -> float:
+    def move_to_joints(
+        self, q_goal: NDArray[np.float64], time_limit: float = JOINT_MOVE_TIME_LIMIT
+    ) -> float:
         """Jerk-limited joint move to q_goal [rad]; returns its duration [s]."""
         start = self.world.time
         self.trajectory.set_target(q_goal)
@@ -180,6 +185,11 @@ class ArmMotion:
         """Joint move to the IK solution for a palm pose; returns its duration [s]."""
         return self.move_to_joints(self.solve_palm(T_world_palm))
 
+    def T_world_palm_commanded(self) -> NDArray[np.float64]:
+        """The palm pose of the arm's last commanded joints (its IK solution, not the
+        measured pose): where the next straight line starts."""
+        return self.T_world_base @ self.ik.forward_palm(self.q_ik)
+
     def move_palm_linear(
         self,
         direction_world: NDArray[np.float64],
@@ -188,37 +198,46 @@ class ArmMotion:
         stop_on_contact: bool = True,
         each_cycle: Callable[[], None] | None = None,
     ) -> LinearMoveResult:
-        """Move the palm along a straight line [m] at `speed` [m/s], orientation kept.
+        """`follow` the line from the commanded palm pose along `direction_world` by
+        `distance` [m] at `speed` [m/s]."""
+        direction = np.asarray(direction_world, dtype=float)
+        line = PalmLine("line", self.T_world_palm_commanded(), direction, distance, speed)
+        return self.follow(line, stop_on_contact, each_cycle)
+
+    def follow(
+        self,
+        line: PalmLine,
+        stop_on_contact: bool = True,
+        each_cycle: Callable[[], None] | None = None,
+    ) -> LinearMoveResult:
+        """Move the palm along a straight line, orientation kept: the line's direction,
+        distance [m] and speed [m/s] from the commanded palm pose (the IK solution of the
+        last move, so its residual does not become a jump), one waypoint per control
+        cycle (`PalmLine.waypoints`).
 
         With stop_on_contact, the palm sensor is read after every control cycle and the
         arm brakes (within its limits) at the first contact. each_cycle: called after
         every control cycle of the move (e.g. to sample the object).
         """
-        direction = np.asarray(direction_world, dtype=float)
-        norm = np.linalg.norm(direction)
-        if not (norm > 0 and distance >= 0 and speed > 0):
+        norm = np.linalg.norm(line.direction)
+        if not (norm > 0 and line.distance >= 0 and line.speed > 0):
             raise GraspframeError(
                 "a linear move needs a non-zero direction, distance >= 0 and speed > 0"
             )
-        direction = direction / norm
         start_time = self.world.time
-        T_start = self.ik.forward_palm(self.q_ik)
-        T_start = self.T_world_base @ T_start
+        driven = line.started_at(self.T_world_palm_commanded())
+        direction = driven.unit_direction
         p_start_measured = self.world.hand.T_world_palm()[:3, 3]
 
-        duration = distance / speed
         cycles, contact, T_at_contact, palm_touched = 0, None, None, False
         if stop_on_contact:
             self.world.hand.palm_sensor()  # a touch latched before this move is not ours
-        n_waypoints = int(np.ceil(duration / self.control_period))
-        for k in range(1, n_waypoints + 1):
-            s = min(k * self.control_period * speed, distance)
-            T_waypoint = T_start.copy()
-            T_waypoint[:3, 3] += s * direction
+        waypoints = driven.waypoints(self.control_period)
+        for k, T_waypoint in enumerate(waypoints, start=1):
             q_previous = self.q_ik
             q_waypoint = self._track(T_waypoint)
             qd_waypoint = None
-            if k < n_waypoints:
+            if k < len(waypoints):
                 qd_waypoint = self._bounded_velocity(
                     (q_waypoint - q_previous) / self.control_period
                 )

@@ -26,51 +26,45 @@ from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import World
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
+from graspframe.motion.palm_line import PalmLine
 from graspframe.strategy.execution import ExecutionLog, Grip
 from graspframe.strategy.held_test import HeldTest
 from graspframe.strategy.planner import GraspPlan
-from graspframe.strategy.segments import PalmPath, palm_path
+from graspframe.strategy.segments import PalmPath, approach_line, palm_path, retreat_line
 from graspframe.transforms import inv_T
 
-ALPHA_START = 0.5  # [-] first weight of the contact point in the goal correction
-MAX_CORRECTIONS = 4  # goal corrections of a volar approach (finger first, or off-centre)
-# A palm touch further than this from the grasp centre (across the object's axis) moves
-# the goal by the offset and approaches again: a thin handle held 1 cm off its grasp
-# centre slips out of a Barrett wrap.
-CENTRING_TOLERANCE = 0.005  # [m]
-MIN_RETREAT = 0.03  # [m] shortest start of a corrected approach before its goal
-APPROACH_SPEED = 0.05  # [m/s] non-volar approach, retreats, back-offs
-# The descent from the via to the pre-approach pose runs at twice the approach speed.
-DESCENT_SPEED = 2 * APPROACH_SPEED  # [m/s]
-# The volar approach is a guarded move: at 5 cm/s its first touch knocked a 12 cm handle
-# over (the arm brakes within a few millimetres, the handle tips at 0.14 N) in 2 of 6
-# runs of experiment B.
-GUARDED_APPROACH_SPEED = 0.025  # [m/s]
-# A volar approach may go this far past its goal looking for the first contact: more
-# than the 5 cm object position error of experiment B.
-APPROACH_OVERSHOOT = 0.07  # [m]
-CLOSE_TIME_LIMIT = 2.0  # [s]
-CLOSE_MIN_TIME = 0.2  # [s] the fingers move at least this long before they may count as settled
-CLOSE_CHECK_PERIOD = 0.05  # [s] how often the closing fingers' speed is measured
-SETTLED_SPEED = 0.05  # [rad/s] the hand counts as closed when no joint moves faster
-HOLD_TIME = 0.5  # [s]
+# A cylinder's axis lies across the palm when its part in the palm plane is longer than
+# this (the sine of its angle to the palm normal): then the palm contacts say nothing
+# about where the cylinder's centre is along it.
+AXIS_ACROSS_PALM = 0.5  # [-]
 
 
 @dataclass(frozen=True)
 class ExecutorParams:
-    """alpha_start, max_corrections: the volar correction loop; speeds [m/s], distances
-    [m], times [s]. The held test's own settings are `HeldTest`'s."""
+    """The method's strategy's settings, each written here only. The held test's own
+    settings are `HeldTest`'s."""
 
-    alpha_start: float = ALPHA_START
-    max_corrections: int = MAX_CORRECTIONS
-    approach_speed: float = APPROACH_SPEED
-    descent_speed: float = DESCENT_SPEED
-    guarded_approach_speed: float = GUARDED_APPROACH_SPEED
-    approach_overshoot: float = APPROACH_OVERSHOOT
-    close_time_limit: float = CLOSE_TIME_LIMIT
-    close_min_time: float = CLOSE_MIN_TIME
-    settled_speed: float = SETTLED_SPEED
-    hold_time: float = HOLD_TIME
+    alpha_start: float = 0.5  # [-] first weight of the contact point in the goal correction
+    max_corrections: int = 4  # goal corrections of a volar approach (finger first, off-centre)
+    # A palm touch further than this from the grasp centre (across the object's axis)
+    # moves the goal by the offset and approaches again: a thin handle held 1 cm off its
+    # grasp centre slips out of a Barrett wrap.
+    centring_tolerance: float = 0.005  # [m]
+    min_retreat: float = 0.03  # [m] shortest start of a corrected approach before its goal
+    approach_speed: float = 0.05  # [m/s] non-volar approach, retreats, back-offs
+    descent_speed: float = 0.10  # [m/s] via to pre-approach pose: twice the approach speed
+    # The volar approach is a guarded move: at 5 cm/s its first touch knocked a 12 cm
+    # handle over (the arm brakes within a few millimetres, the handle tips at 0.14 N) in
+    # 2 of 6 runs of experiment B.
+    guarded_approach_speed: float = 0.025  # [m/s]
+    # A volar approach may go this far past its goal looking for the first contact: more
+    # than the 5 cm object position error of experiment B.
+    approach_overshoot: float = 0.07  # [m]
+    close_time_limit: float = 2.0  # [s]
+    close_min_time: float = 0.2  # [s] the fingers move at least this long before they may settle
+    close_check_period: float = 0.05  # [s] how often the closing fingers' speed is measured
+    settled_speed: float = 0.05  # [rad/s] the hand counts as closed when no joint moves faster
+    hold_time: float = 0.5  # [s]
 
 
 def planned_path(plan: GraspPlan, params: ExecutorParams, held: HeldTest | None = None) -> PalmPath:
@@ -85,13 +79,6 @@ def planned_path(plan: GraspPlan, params: ExecutorParams, held: HeldTest | None 
         None if held is None else held.lift_height,
         None if held is None else held.lift_speed,
     )
-
-
-def _moved(T: NDArray[np.float64], shift: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The pose T translated by `shift` [m] (world frame)."""
-    T_moved = T.copy()
-    T_moved[:3, 3] += shift
-    return T_moved
 
 
 @dataclass(frozen=True)
@@ -143,24 +130,20 @@ class _Strategy:
     def _move_to_pre_approach(
         self,
         open_q: Mapping[str, float],
-        T_world_palm_via: NDArray[np.float64] | None = None,
         at_via: Callable[[], None] | None = None,
     ) -> None:
-        """Open the hand while the arm moves the palm to the via (the plan's, or
-        `T_world_palm_via`), call `at_via` there (a strategy's look), then descend to the
+        """Open the hand while the arm moves the palm to the path's via, call `at_via`
+        there (a strategy's look, which may shift the path), then descend to the
         pre-approach pose."""
         plan, motion = self.plan, self.motion
         self.world.hand.set_joint_targets(open_q)
         self.emit(events.EXECUTE_PRESHAPE, preshape=plan.preshape)
-        via = self.path.T_world_palm_via if T_world_palm_via is None else T_world_palm_via
-        duration = motion.move_palm_to(via)
+        duration = motion.move_palm_to(self.path.T_world_palm_via)
         if at_via is not None:
             at_via()
         descent = self.path.descent
         if descent is not None:
-            duration += motion.move_palm_linear(
-                descent.direction, descent.distance, descent.speed, stop_on_contact=False
-            ).duration
+            duration += motion.follow(descent, stop_on_contact=False).duration
         self.emit(
             events.EXECUTE_PRE_APPROACH,
             duration=duration,
@@ -170,9 +153,7 @@ class _Strategy:
     def _approach_non_volar(self) -> bool:
         """Straight to the standoff goal, no feedback; returns whether the palm touches."""
         approach = self.path.approach
-        result = self.motion.move_palm_linear(
-            approach.direction, approach.distance, approach.speed, stop_on_contact=False
-        )
+        result = self.motion.follow(approach, stop_on_contact=False)
         self.emit(
             events.EXECUTE_APPROACH, travel=result.travel, stopped=False, cycles=result.cycles
         )
@@ -184,14 +165,12 @@ class _Strategy:
 
         Returns (corrections, palm contact reached, goals tried)."""
         plan, motion, p, emit = self.plan, self.motion, self.p, self.emit
-        approach = self.path.approach
-        a = approach.direction
-        d_start = approach.distance  # from the approach's start to its goal
+        approach = self.path.approach  # then the approach to each corrected goal
         T_goal = plan.T_world_palm_goal.copy()
         goals = [T_goal[:3, 3].tolist()]
         alpha, corrections = p.alpha_start, 0
         while True:
-            result = motion.move_palm_linear(a, d_start + p.approach_overshoot, approach.speed)
+            result = motion.follow(approach.extended(p.approach_overshoot))
             emit(
                 events.EXECUTE_APPROACH,
                 travel=result.travel,
@@ -220,9 +199,7 @@ class _Strategy:
                 return corrections, result.palm_touched, goals
             # Retreat along the approach line, move the goal, go again: towards a finger
             # contact (the method), or by the palm contact's offset from the grasp centre.
-            motion.move_palm_linear(
-                -a, max(result.travel, 0.0), p.approach_speed, stop_on_contact=False
-            )
+            self._retreat(max(result.travel, 0.0))
             p_goal_old = T_goal[:3, 3].copy()
             if centring is None:
                 p_goal_new = p_goal_old + self._towards_contact(T_goal, contact.p, alpha)
@@ -245,38 +222,46 @@ class _Strategy:
                 goal_after=T_goal[:3, 3].copy(),
             )
             goals.append(T_goal[:3, 3].tolist())
-            d_start = self._to_corrected_start(T_goal, result.travel)
+            approach = self._to_corrected_start(T_goal, approach.speed, result.travel)
+
+    def _retreat(self, distance: float) -> None:
+        """Back along the approach by `distance` [m] from where the palm is."""
+        retreat = retreat_line(
+            self.plan, self.motion.T_world_palm_commanded(), distance, self.p.approach_speed
+        )
+        self.motion.follow(retreat, stop_on_contact=False)
 
     def _to_corrected_start(
-        self, T_world_palm_goal: NDArray[np.float64], retreated: float
-    ) -> float:
+        self, T_world_palm_goal: NDArray[np.float64], speed: float, retreated: float
+    ) -> PalmLine:
         """Move to the start of the approach to a corrected goal: the pre-approach
         distance back from it, or, when the arm cannot reach that (a low goal near the
-        arm's base), as far back as the hand just retreated. Returns that distance [m]."""
-        a = self.plan.a_world
+        arm's base), as far back as the hand just retreated. Returns that approach (at
+        `speed` [m/s])."""
         try:
-            d_start = self.plan.pre_approach_distance
-            self.motion.move_palm_to(_moved(T_world_palm_goal, -d_start * a))
+            approach = approach_line(
+                self.plan, T_world_palm_goal, self.plan.pre_approach_distance, speed
+            )
+            self.motion.move_palm_to(approach.T_world_palm_start)
         except MotionError:
-            d_start = max(retreated, MIN_RETREAT)
-            self.motion.move_palm_to(_moved(T_world_palm_goal, -d_start * a))
-        return d_start
+            d_start = max(retreated, self.p.min_retreat)
+            approach = approach_line(self.plan, T_world_palm_goal, d_start, speed)
+            self.motion.move_palm_to(approach.T_world_palm_start)
+        return approach
 
     def _back_off(self) -> None:
         """Back the palm off the object it found by the plan's volar gap along the
         approach, so the object sits where the preshape's fingers close on it."""
         back_off = self.path.back_off
         assert back_off is not None  # only plans with a volar gap back off
-        result = self.motion.move_palm_linear(
-            back_off.direction, back_off.distance, back_off.speed, stop_on_contact=False
-        )
+        result = self.motion.follow(back_off, stop_on_contact=False)
         self.emit(events.EXECUTE_BACK_OFF, gap=back_off.distance, travel=-result.travel)
 
     def _close(self, closed_q: Mapping[str, float]) -> None:
         world = self.world
         world.hand.set_joint_targets(closed_q)
         names = list(closed_q)
-        check_every = max(1, round(CLOSE_CHECK_PERIOD / world.timestep))
+        check_every = max(1, round(self.p.close_check_period / world.timestep))
         previous = world.hand.joint_positions()
         start = world.time
         # Move for at least the shortest closing time before testing for the stop.
@@ -312,7 +297,7 @@ class _Strategy:
     def _centring_shift(self) -> NDArray[np.float64] | None:
         """[m] world shift of the palm goal that puts the object's centre over the plan's
         grasp centre, judged from where the object touches the palm; None when it is
-        within CENTRING_TOLERANCE.
+        within the centring tolerance.
 
         A convex object resting on the flat palm touches it right below its centre, so
         the mean palm contact (in the palm plane) is where the object's centre is. Along
@@ -330,11 +315,11 @@ class _Strategy:
         if self.obj.shape == "cylinder":
             axis_palm = inv_T(self.plan.T_object_palm)[:3, :3] @ np.array([0.0, 0.0, 1.0])
             axis_palm[2] = 0.0
-            if np.linalg.norm(axis_palm) > 0.5:  # the axis lies across the palm
+            if np.linalg.norm(axis_palm) > AXIS_ACROSS_PALM:
                 u = axis_palm / np.linalg.norm(axis_palm)
                 offset_palm -= (offset_palm @ u) * u
         shift_world = T_world_palm[:3, :3] @ offset_palm
         shift_world[2] = 0.0  # the object's height is known (it stands on the table)
-        if np.linalg.norm(shift_world) <= CENTRING_TOLERANCE:
+        if np.linalg.norm(shift_world) <= self.p.centring_tolerance:
             return None
         return shift_world

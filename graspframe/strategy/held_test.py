@@ -35,13 +35,13 @@ if TYPE_CHECKING:  # the arm's motion (IK, trajectories) only drives the lift; a
     from graspframe.motion.arm_motion import ArmMotion
 
 LIFT_SPEED = 0.05  # [m/s]
-SETTLE_TIME = 0.5  # [s] the hand stands still after the lift before it is judged
+LIFT_SETTLE_TIME = 0.5  # [s] the hand stands still after the lift before it is judged
 HELD_RISE_FRACTION = 0.8  # the object must rise by at least this part of the lift
 MAX_SHIFT_IN_HAND = 0.02  # [m] largest displacement of the object in the palm frame
 MAX_TURN_IN_HAND_DEG = 15.0  # [deg] largest rotation of the object in the palm frame
 DISTURBANCE_TIME = 0.5  # [s] per direction
 SAMPLE_PERIOD = 0.02  # [s] how often the object's pose in the hand is sampled
-GRAVITY = 9.81  # [m/s^2]
+GRAVITY = 9.81  # [m/s^2] the simulated worlds' (an object's weight)
 DISTURBANCE_DIRECTIONS = {
     "+x": (1.0, 0.0, 0.0),
     "-x": (-1.0, 0.0, 0.0),
@@ -148,7 +148,7 @@ class HeldTest:
 
     lift_height: float = LIFT_HEIGHT
     lift_speed: float = LIFT_SPEED
-    settle_time: float = SETTLE_TIME
+    lift_settle_time: float = LIFT_SETTLE_TIME
     held_rise_fraction: float = HELD_RISE_FRACTION
     max_shift_in_hand: float = MAX_SHIFT_IN_HAND
     max_turn_in_hand_deg: float = MAX_TURN_IN_HAND_DEG
@@ -166,7 +166,7 @@ class HeldTest:
         return (
             self.lift_height,
             self.lift_speed,
-            self.settle_time,
+            self.lift_settle_time,
             self.held_rise_fraction,
             self.max_shift_in_hand,
             self.max_turn_in_hand_deg,
@@ -221,20 +221,22 @@ class HeldTest:
         )
 
     def lift(self, world: World, motion: ArmMotion) -> LiftResult:
-        """Raise the palm by lift_height straight up, wait settle_time, and judge whether
-        the object came along."""
+        """Raise the palm by lift_height straight up (the lift of strategy/segments.py),
+        wait lift_settle_time, and judge whether the object came along."""
+        # The segments need the arm's motion, which a run request names its test without.
+        from graspframe.strategy.segments import lift_line
+
         T_palm_object_hold = T_palm_object(world)
         z_object_hold = object_probe(world).T_world_object()[2, 3]
         samples: list[NDArray[np.float64]] = []
-        motion.move_palm_linear(
-            np.array([0.0, 0.0, 1.0]),
-            self.lift_height,
-            self.lift_speed,
+        lift = lift_line(motion.T_world_palm_commanded(), self.lift_height, self.lift_speed)
+        motion.follow(
+            lift,
             stop_on_contact=False,
             each_cycle=lambda: samples.append(T_palm_object(world)),
         )
-        settle_steps = round(self.settle_time / world.timestep)
-        sample_steps = 10  # [steps] between samples while settling
+        settle_steps = round(self.lift_settle_time / world.timestep)
+        sample_steps = max(1, round(SAMPLE_PERIOD / world.timestep))
         for _ in range(max(1, settle_steps // sample_steps)):
             motion.idle(sample_steps)
             samples.append(T_palm_object(world))

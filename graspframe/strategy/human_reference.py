@@ -50,7 +50,7 @@ from graspframe.motion.arm_motion import ArmMotion
 from graspframe.results import jsonable, read_json_file
 from graspframe.snapshots import PICTURE_STYLE, Snapshot, draw_snapshots, scene_of_robot
 from graspframe.strategy.execution import ExecutionLog, Grip, execute
-from graspframe.strategy.executor import APPROACH_SPEED  # the robots' non-volar approach
+from graspframe.strategy.executor import ExecutorParams
 from graspframe.strategy.held_test import HeldTest, HeldVerdict
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
@@ -60,10 +60,11 @@ CACHE_KIND = "human_references"
 PICTURE = "picture.png"  # the picture of the simulated grasp, in its cache entry
 # Part of the cache key: bump it when the way references are simulated changes.
 PROCEDURE_VERSION = 5
-SETTLE_TIME = 1.0  # [s] after the slowest joint could have reached its closed target
+CLOSING_SETTLE_TIME = 1.0  # [s] after the slowest joint could have reached its closed target
 OPENING_SETTLE_TIME = 0.2  # [s] after the slowest joint could have reached its open target
 # The hand takes its open posture this far back along its palm normal, then approaches.
 APPROACH_DISTANCE = 0.08  # [m]
+APPROACH_SPEED = ExecutorParams().approach_speed  # [m/s] the robots' non-volar approach
 # Where the object stands in the reference world (the hand floats, so any place works).
 T_WORLD_OBJECT_XY = (0.0, 0.0)
 
@@ -176,7 +177,7 @@ def _cached_reference(entry: CacheEntry, obj: ObjectDescription) -> HumanReferen
 class HumanClosing:
     """The human hand's grasp policy (execution.py): take the open posture, approach the
     reference palm pose along the palm normal, close towards the closed posture open-loop
-    (for the slowest joint's travel time, then SETTLE_TIME) until the fingers stop on
+    (for the slowest joint's travel time, then CLOSING_SETTLE_TIME) until the fingers stop on
     the object."""
 
     human: HandDescription
@@ -192,7 +193,7 @@ class HumanClosing:
         )
         world.hand.set_joint_targets(self.posture.closed_q)
         travel_time = _travel_time(self.human, self.posture.open_q, self.posture.closed_q)
-        motion.idle(round((travel_time + SETTLE_TIME) / world.timestep))
+        motion.idle(round((travel_time + CLOSING_SETTLE_TIME) / world.timestep))
         return Grip()
 
 
@@ -288,7 +289,13 @@ def _cache_key(
         digest.update(obj.mesh_geometry().fingerprint.encode())
     digest.update(repr((obj.static_friction, obj.dynamic_friction, human.drive)).encode())
     # The stored held verdict depends on how the grasp is made and judged.
-    procedure = (APPROACH_DISTANCE, APPROACH_SPEED, SETTLE_TIME, OPENING_SETTLE_TIME, held.key())
+    procedure = (
+        APPROACH_DISTANCE,
+        APPROACH_SPEED,
+        CLOSING_SETTLE_TIME,
+        OPENING_SETTLE_TIME,
+        held.key(),
+    )
     digest.update(repr(procedure).encode())
     return f"{grasp.value}_{obj.name}_{digest.hexdigest()[:12]}"
 

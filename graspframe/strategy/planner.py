@@ -6,7 +6,8 @@ from the image and the demonstration scene, or a reference placement), the robot
 belief of the object pose (T_world_object_est, which may be wrong), the object and the
 hand description. Output: a plain, serialisable GraspPlan.
 
-Choices the method leaves open (see docs/method.md):
+Choices the method leaves open (see docs/method.md; the settings in quotes are
+`PlannerParams` fields):
 - The robot palm takes the human palm orientation relative to the object (the palm
   frames of all hands share one convention), turned by the preshape's preferred roll
   about the palm normal.
@@ -14,15 +15,15 @@ Choices the method leaves open (see docs/method.md):
   frame (its design object's centre), with the height along the palm normal set by the
   real object's extent: a volar grasp rests the object on the palm; a non-volar grasp
   keeps the object's near face where the design object's was, never closer to the palm
-  than PALM_CLEARANCE. With the default grasp centre (0, 0, delta) this is the method's
+  than `palm_clearance`. With the default grasp centre (0, 0, delta) this is the method's
   "p_h->o minus delta" along the approach. A preshape with a stop_direction (fingers
   that take the object's rim where they stand) also keeps the object's extent along it
   where the design object's was, so a larger object sits further back from them.
-- Approach selection follows the palm normal: within SIDE_APPROACH_MAX_TILT_DEG of
+- Approach selection follows the palm normal: within `side_approach_max_tilt_deg` of
   horizontal, the side approach a_s (the normal projected on the table plane); pointing
   further down, the top approach a_v (straight down). A palm facing up cannot be
   approached from below the table and is refused.
-- The whole hand stays TABLE_CLEARANCE above the table at the goal: every shape of the
+- The whole hand stays `table_clearance` above the table at the goal: every shape of the
   hand (palm included), in the goal orientation, over the closing motion (each finger
   stopping at the object), sets the lowest allowed palm height; the goal is raised to it
   and the volar correction loop never goes below it.
@@ -48,14 +49,6 @@ from graspframe.hal.objects import ObjectDescription
 from graspframe.strategy.hand_geometry import closing_configurations, lowest_hand_point
 from graspframe.transforms import as_pose, inv_T, make_T
 
-SIDE_APPROACH_MAX_TILT_DEG = 30.0
-PRE_APPROACH_DISTANCE = 0.15  # [m] the approach starts this far before the goal: more than
-# the open fingers reach plus the 5 cm object error of experiment B
-# A side approach reaches its pre-approach pose by coming straight down from this much
-# higher, so the open hand does not sweep through the object on its way there.
-SIDE_VIA_RISE = 0.15  # [m]
-TABLE_CLEARANCE = 0.01  # [m] of the whole hand above the table at the goal
-PALM_CLEARANCE = 0.005  # [m] of a non-volar object's near face from the palm
 MAX_RAISE_ITERATIONS = 5
 RAISE_TOLERANCE = 1e-6  # [m]
 DOWN = np.array([0.0, 0.0, -1.0])
@@ -67,17 +60,18 @@ class PlanningError(GraspframeError):
 
 @dataclass(frozen=True)
 class PlannerParams:
-    """side_approach_max_tilt_deg: threshold of the approach selection [deg];
-    pre_approach_distance: start of the approach before the goal along a [m];
-    side_via_rise: height of the via pose above a side pre-approach pose [m];
-    table_clearance: of the whole hand above the table [m];
-    palm_clearance: of a non-volar object's near face from the palm [m]."""
+    """The planner's settings, each written here only."""
 
-    side_approach_max_tilt_deg: float = SIDE_APPROACH_MAX_TILT_DEG
-    pre_approach_distance: float = PRE_APPROACH_DISTANCE
-    side_via_rise: float = SIDE_VIA_RISE
-    table_clearance: float = TABLE_CLEARANCE
-    palm_clearance: float = PALM_CLEARANCE
+    # A palm normal within this of horizontal gives the side approach.
+    side_approach_max_tilt_deg: float = 30.0  # [deg]
+    # The approach starts this far before the goal along a: more than the open fingers
+    # reach plus the 5 cm object error of experiment B.
+    pre_approach_distance: float = 0.15  # [m]
+    # A side approach reaches its pre-approach pose by coming straight down from this
+    # much higher, so the open hand does not sweep through the object on its way there.
+    side_via_rise: float = 0.15  # [m]
+    table_clearance: float = 0.01  # [m] of the whole hand above the table at the goal
+    palm_clearance: float = 0.005  # [m] of a non-volar object's near face from the palm
 
 
 @dataclass(frozen=True)
@@ -124,7 +118,7 @@ class GraspPlan:
         (the preshape's `volar_centre_height` for thin objects; 0: it closes touching).
     table_raise: [m] how far the goal was raised to keep the whole hand off the table.
     min_goal_height: [m] lowest world height of the palm origin that keeps the hand
-        TABLE_CLEARANCE above the table (the correction loop stays above it).
+        `table_clearance` above the table (the correction loop stays above it).
     R_object_symmetry: rotation of the object frame that the variant's yaw used (the
         object looks the same after it); the score turns robot contacts back by it.
     """
@@ -204,7 +198,7 @@ def object_in_palm(
     obj: ObjectDescription,
     R_object_palm: NDArray[np.float64],
     volar: bool,
-    palm_clearance: float = PALM_CLEARANCE,
+    palm_clearance: float = PlannerParams.palm_clearance,
 ) -> NDArray[np.float64]:
     """[m] where the object's centroid sits in the palm frame (see the module docstring)."""
     centre = np.array(preshape.grasp_center_palm, dtype=float)

@@ -1,5 +1,6 @@
 """The palm's path for a plan: the motion segments the method's strategy drives, built in
-one place for the executor that drives them and the collision check that checks them.
+one place for the executor that drives them and the collision check that checks them
+(arm_path.py).
 
 - transfer: a jerk-limited joint move from the arm's home to the via pose;
 - descent: a straight palm line from the via to the pre-approach pose;
@@ -7,63 +8,34 @@ one place for the executor that drives them and the collision check that checks 
   may go on past the goal by the overshoot, looking for its first contact: that part
   is a search into the object and is not checked);
 - back-off: back along the approach by the plan's volar gap (volar plans that back off);
-- lift: straight up by the held test's lift height.
+- lift: straight up by the held test's lift height (`lift_line`, which the held test
+  drives).
 
-A straight line is driven one waypoint per control cycle (`PalmLine.waypoints`: the
-points ArmMotion.move_palm_linear tracks), and checked at those same waypoints. The
-volar strategy's corrections (a retreat along the approach, then an approach to a
-corrected goal) are the same kind of line, built when the contact that asks for them
-happens (`approach_line`).
+A straight line (`PalmLine`, motion/palm_line.py) is driven one waypoint per control
+cycle (`PalmLine.waypoints`, followed by `ArmMotion.follow` from the arm's commanded
+palm pose), and checked at those same waypoints. The corrections decided while the
+strategy runs are built here too, when the contact or the look that asks for them
+happens: the volar loop's retreat (`retreat_line`) and its approach to a corrected goal
+(`approach_line`, after a joint move to its start), the servo strategy's shifted path
+(`PalmPath.shifted`, `approach_line`) and its sideways move at the standoff
+(`sideways_line`). Those are not collision-checked (arm_path.py says why).
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from graspframe.strategy.planner import GraspPlan
+from graspframe.motion.palm_line import PalmLine
+
+if TYPE_CHECKING:  # plans are only read here: the held test's lift needs no planner
+    from graspframe.strategy.planner import GraspPlan
 
 MIN_DESCENT = 1e-6  # [m] a shorter descent from the via to the pre-approach pose is skipped
 UP = np.array([0.0, 0.0, 1.0])
-
-
-@dataclass(frozen=True)
-class PalmLine:
-    """A straight palm move: from T_world_palm_start along the world direction
-    `direction` (any length: it is made unit where it is used, as ArmMotion does) by
-    `distance` [m] at `speed` [m/s], the palm's orientation kept."""
-
-    name: str
-    T_world_palm_start: NDArray[np.float64]
-    direction: NDArray[np.float64]
-    distance: float
-    speed: float
-
-    @property
-    def T_world_palm_end(self) -> NDArray[np.float64]:
-        return self.T_world_palm_at(self.distance)
-
-    @property
-    def unit_direction(self) -> NDArray[np.float64]:
-        return self.direction / np.linalg.norm(self.direction)
-
-    def T_world_palm_at(self, s: float) -> NDArray[np.float64]:
-        """The palm pose `s` [m] along the line."""
-        T = self.T_world_palm_start.copy()
-        T[:3, 3] += s * self.unit_direction
-        return T
-
-    def waypoints(self, control_period: float) -> list[NDArray[np.float64]]:
-        """The palm poses the controller tracks, one per control cycle [s]: every
-        speed * control_period along the line, the last at its end."""
-        n = math.ceil(self.distance / self.speed / control_period)
-        return [
-            self.T_world_palm_at(min(k * control_period * self.speed, self.distance))
-            for k in range(1, n + 1)
-        ]
 
 
 def line(
@@ -90,6 +62,31 @@ class PalmPath:
     def lines(self) -> list[PalmLine]:
         return [s for s in (self.descent, self.approach, self.back_off, self.lift) if s]
 
+    def shifted(self, shift_world: NDArray[np.float64]) -> PalmPath:
+        """The whole path moved by `shift_world` [m] (the servo strategy's corrections)."""
+
+        def moved(segment: PalmLine | None) -> PalmLine | None:
+            if segment is None:
+                return None
+            return segment.started_at(moved_pose(segment.T_world_palm_start, shift_world))
+
+        approach = moved(self.approach)
+        assert approach is not None
+        return PalmPath(
+            moved_pose(self.T_world_palm_via, shift_world),
+            moved(self.descent),
+            approach,
+            moved(self.back_off),
+            moved(self.lift),
+        )
+
+
+def moved_pose(T: NDArray[np.float64], shift_world: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The pose T translated by `shift_world` [m] (world frame)."""
+    T_moved = T.copy()
+    T_moved[:3, 3] += shift_world
+    return T_moved
+
 
 def approach_line(
     plan: GraspPlan, T_world_palm_goal: NDArray[np.float64], distance: float, speed: float
@@ -100,6 +97,31 @@ def approach_line(
     start = np.asarray(T_world_palm_goal, dtype=float).copy()
     start[:3, 3] -= distance * (a / np.linalg.norm(a))
     return PalmLine("approach", start, a, float(distance), speed)
+
+
+def retreat_line(
+    plan: GraspPlan, T_world_palm_from: NDArray[np.float64], distance: float, speed: float
+) -> PalmLine:
+    """Back along the plan's approach direction by `distance` [m] from T_world_palm_from:
+    the volar loop's retreat from a contact that asks for a corrected goal."""
+    a = np.asarray(plan.a_world, dtype=float)
+    return PalmLine("retreat", np.asarray(T_world_palm_from, dtype=float), -a, distance, speed)
+
+
+def lift_line(T_world_palm_from: NDArray[np.float64], height: float, speed: float) -> PalmLine:
+    """The held test's lift: straight up (world +z) by `height` [m] from
+    T_world_palm_from."""
+    return PalmLine("lift", np.asarray(T_world_palm_from, dtype=float), UP, height, speed)
+
+
+def sideways_line(
+    T_world_palm_from: NDArray[np.float64], shift_world: NDArray[np.float64], speed: float
+) -> PalmLine:
+    """A short move by the world vector `shift_world` [m] from T_world_palm_from: the
+    servo strategy's correction at the standoff."""
+    distance = float(np.linalg.norm(shift_world))
+    start = np.asarray(T_world_palm_from, dtype=float)
+    return PalmLine("standoff shift", start, shift_world / distance, distance, speed)
 
 
 def palm_path(
@@ -128,5 +150,5 @@ def palm_path(
         T_world_palm_held = back_off.T_world_palm_end
     lift = None
     if lift_height is not None and lift_speed is not None:
-        lift = line("lift", T_world_palm_held, lift_height * UP, lift_speed)
+        lift = lift_line(T_world_palm_held, lift_height, lift_speed)
     return PalmPath(plan.T_world_palm_via, descent, approach, back_off, lift)

@@ -17,7 +17,7 @@ as it is.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -32,12 +32,10 @@ from graspframe.perception.localise import ObjectFit, ObjectModel, fit_object
 from graspframe.perception.self_filter import RobotSelfFilter
 from graspframe.pictures.render3d import look_at
 from graspframe.strategy.execution import ExecutionLog, Grip
-from graspframe.strategy.executor import ExecutorParams, _moved, _Strategy
+from graspframe.strategy.executor import ExecutorParams, _Strategy
 from graspframe.strategy.planner import GraspPlan
+from graspframe.strategy.segments import approach_line, moved_pose, sideways_line
 
-TOLERANCE = 0.003  # [m] an estimate this close to the believed position is left alone
-MAX_STEPS = 4  # looks per stage (start, via, pre-approach, standoff)
-MAX_STANDOFF_SHIFT = 0.02  # [m] a larger correction at the standoff is not made there
 # The head camera: 320 x 240 px at 290 px focal length (the QVGA mode of the Kinect class,
 # 580 px at 640 x 480), in the world above and beside the arm's base (at the world origin
 # on the arm mount; the hand alone works in the same scene), looking at the believed
@@ -54,9 +52,11 @@ def head_camera(p_world_target: ArrayLike) -> CameraMount:
 
 @dataclass(frozen=True)
 class ServoParams:
-    tolerance: float = TOLERANCE
-    max_steps: int = MAX_STEPS
-    max_standoff_shift: float = MAX_STANDOFF_SHIFT
+    """The servo loop's settings, each written here only."""
+
+    tolerance: float = 0.003  # [m] an estimate this close to the belief is left alone
+    max_steps: int = 4  # looks per stage (start, via, pre-approach, standoff)
+    max_standoff_shift: float = 0.02  # [m] a larger correction at the standoff is not made
 
 
 @dataclass(frozen=True)
@@ -98,8 +98,7 @@ class _ServoStrategy(_Strategy):
         self.self_filter = RobotSelfFilter(owner.config.robot.model, owner.config.T_world_arm_base)
         self.model = ObjectModel(self.obj, owner.seed)
         self.T_world_object_believed = owner.T_world_object_believed.copy()
-        # The path as the looks have shifted it so far: its via and its palm goal.
-        self.T_via = self.path.T_world_palm_via.copy()
+        # The palm goal as the looks have shifted it so far (self.path: the segments).
         self.T_goal = self.plan.T_world_palm_goal.copy()
 
     def run(self) -> Grip:
@@ -179,29 +178,28 @@ class _ServoStrategy(_Strategy):
         moves (its way to the via can sweep through an object 5 cm from the belief) and
         at the via, before the descent."""
         self._servo("start", self._shift_plan)
-        self._move_to_pre_approach(
-            open_q, self.T_via, at_via=lambda: self._servo("via", self._shift_via)
-        )
+        self._move_to_pre_approach(open_q, at_via=lambda: self._servo("via", self._shift_via))
 
     def _shift_plan(self, shift: NDArray[np.float64]) -> bool:
         """Shift the whole path by `shift` [m] before the arm moves."""
-        self.T_goal = _moved(self.T_goal, shift)
-        self.T_via = _moved(self.T_via, shift)
+        self.T_goal = moved_pose(self.T_goal, shift)
+        self.path = self.path.shifted(shift)
         return True
 
     def _shift_via(self, shift: NDArray[np.float64]) -> bool:
         """Shift the via, and the path after it, by `shift` [m] and go to the new via."""
-        self.T_goal = _moved(self.T_goal, shift)
-        self.T_via = _moved(self.T_via, shift)
-        self.motion.move_palm_to(self.T_via)
+        self.T_goal = moved_pose(self.T_goal, shift)
+        self.path = self.path.shifted(shift)
+        self.motion.move_palm_to(self.path.T_world_palm_via)
         return True
 
     def _shift_approach(self, shift: NDArray[np.float64]) -> bool:
         """Shift the whole approach by `shift` [m] and go to its new start."""
-        self.T_goal = _moved(self.T_goal, shift)
-        start = self.path.approach
-        T_start = _moved(self.T_goal, -start.distance * start.unit_direction)
-        self.motion.move_palm_to(T_start)
+        self.T_goal = moved_pose(self.T_goal, shift)
+        planned = self.path.approach
+        approach = approach_line(self.plan, self.T_goal, planned.distance, planned.speed)
+        self.motion.move_palm_to(approach.T_world_palm_start)
+        self.path = replace(self.path, approach=approach)
         return True
 
     def _shift_at_standoff(self, shift: NDArray[np.float64]) -> bool:
@@ -210,8 +208,7 @@ class _ServoStrategy(_Strategy):
         distance = float(np.linalg.norm(shift))
         if distance > self.owner.servo.max_standoff_shift:
             return False
-        self.T_goal = _moved(self.T_goal, shift)
-        self.motion.move_palm_linear(
-            shift / distance, distance, self.p.approach_speed, stop_on_contact=False
-        )
+        self.T_goal = moved_pose(self.T_goal, shift)
+        sideways = sideways_line(self.motion.T_world_palm_commanded(), shift, self.p.approach_speed)
+        self.motion.follow(sideways, stop_on_contact=False)
         return True

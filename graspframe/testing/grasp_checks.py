@@ -32,6 +32,7 @@ from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.drivers import Backend, WorldConfig
 from graspframe.hal.objects import ObjectDescription
 from graspframe.robot_model import CollisionModel
+from graspframe.strategy.held_test import GRAVITY
 from graspframe.strategy.reference_poses import R_object_palm_for_design
 from graspframe.transforms import make_T
 
@@ -207,7 +208,7 @@ def _hand_alone(
         T_world_arm_base=checked.T_world_base,
         T_world_object=T_world_object,
     )
-    policy = MethodStrategy(checked.plan, hand, obj)
+    policy = MethodStrategy(checked.plan, hand, obj, checked.executor_params)
     execution = execute(backend, config, policy, HeldTest(disturb=disturb))
     return execution.outcome, execution.moments, checked
 
@@ -280,9 +281,6 @@ def _unplanned(obj: ObjectDescription, reason: str) -> GraspOutcome:
         held=None,
         aborted=f"no plan: {reason}",
     )
-
-
-GRAVITY = 9.81  # [m/s^2]
 
 
 def hold_measures(trial: HoldTrial) -> list[str]:
