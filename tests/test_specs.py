@@ -16,8 +16,10 @@ from graspframe.grasps import HumanGrasp
 from graspframe.hal import ArmDescription, HandDescription
 from graspframe.plugins import hookimpl
 from graspframe.registry import Registry, default_registry
+from graspframe.robot_model import CollisionModel
 from graspframe.specs import load_spec
 from graspframe.testing import arm_problems, hand_problems, self_collision_problems
+from graspframe.testing.self_collision import signed_link_distance
 
 
 def test_the_leap_hand_spec_describes_the_vendor_hand(leap_hand_dir):
@@ -33,14 +35,26 @@ def test_the_leap_hand_spec_describes_the_vendor_hand(leap_hand_dir):
     assert hand_problems(hand) == []
 
 
-# The spec's palm pad (60 x 100 mm, palm x -40..20 mm) reaches over the thumb's root
-# (thumb_temp_base and thumb_pip, at palm x -33 mm): 1.3 to 6.7 mm deep in every open
-# preshape; and the pinch's open spread crosses the index and middle fingers (dip-dip_2
-# 7.5 mm deep). The simulator runs without self-collision, so no grasp shows it. Strict:
-# the test fails once the spec is clear, to be made a plain test then.
-@pytest.mark.xfail(strict=True, reason="the LEAP spec's pad and pinch overlap the thumb root")
+# The spec's palm pad stops short of the thumb's root and the pinch's index and middle
+# sit side by side; the simulator runs without self-collision, so no grasp would show an
+# overlap.
 def test_the_leap_hand_spec_opens_free_of_self_collision(leap_hand_dir):
     assert self_collision_problems(load_spec(LEAP_HAND_SPEC)) == []
+
+
+def test_the_leap_pinch_keeps_index_and_middle_apart_open_and_closed(leap_hand_dir):
+    hand = load_spec(LEAP_HAND_SPEC)
+    assert isinstance(hand, HandDescription)
+    model = CollisionModel(hand.urdf())
+    pinch = hand.preshapes["pinch"]
+    for q in (pinch.open_q, pinch.closed_q):
+        model.place(hand.with_model_followers(q))
+        gap = min(
+            signed_link_distance(model, index_link, middle_link)
+            for index_link in ("pip", "dip", "fingertip")
+            for middle_link in ("pip_2", "dip_2", "fingertip_2")
+        )
+        assert gap > 0.001  # [m] side by side, not through each other
 
 
 def test_the_panda_spec_describes_the_vendor_arm(panda_description_dir):
