@@ -5,10 +5,10 @@ Three checks, in order, each reported with its verdict and what it measured:
 
 1. the description and its model (`graspframe.testing.hand_problems`: joints and limits
    against the model, real fingers, couplings, preshapes within limits, the mapping of
-   all six grasps, the palm frame's +z pointing out of the palm); with it, the links
-   that overlap in each preshape's open posture (`self_collision.open_preshape_collisions`),
-   reported but not failed here: the simulator runs without self-collision; when it
-   fails, each preshape is still drawn posed closed around its design object (no
+   all six grasps, the palm frame's +z pointing out of the palm) and, once those hold,
+   no links overlapping in a preshape's open posture
+   (`self_collision.self_collision_problems`, failed here as in the contract test); when
+   it fails, each preshape is still drawn posed closed around its design object (no
    physics) where the model loads, to see what is wrong (a palm frame turned over shows
    at once);
 2. closing each preshape in free space brings its opposed fingers together
@@ -52,7 +52,7 @@ from graspframe.testing.grasp_checks import (
     hold_measures,
     hold_trials,
 )
-from graspframe.testing.self_collision import open_preshape_collisions
+from graspframe.testing.self_collision import open_preshape_collisions, self_collision_problems
 
 
 @dataclass
@@ -105,29 +105,23 @@ def hand_summary(hand: HandDescription) -> list[str]:
 
 def _description_check(hand: HandDescription) -> CheckResult:
     problems = hand_problems(hand)
+    # The open postures are checked for self-collision once the description holds
+    # together; an overlap fails the check as it fails the contract test
+    # (`assert_hand_free_of_self_collision`): a posture whose links interpenetrate cannot
+    # be built, even though the simulator, which runs without self-collision, would go on.
+    measured = hand_summary(hand)
+    if not problems:
+        collisions = open_preshape_collisions(hand, CollisionModel(hand.urdf()))
+        clear = [name for name, pairs in collisions.items() if not pairs]
+        measured.append(f"open preshapes free of self-collision: {', '.join(clear) or 'none'}")
+        problems = self_collision_problems(hand)
     return CheckResult(
         "the description against its model (joints, limits, real fingers, couplings, "
-        "preshapes, the mapping, the palm frame's +z out of the palm)",
+        "preshapes, the mapping, the palm frame's +z out of the palm, no self-collision in "
+        "an open preshape)",
         problems=problems,
-        measured=hand_summary(hand) + ([] if problems else _self_collision_lines(hand)),
+        measured=measured,
     )
-
-
-def _self_collision_lines(hand: HandDescription) -> list[str]:
-    """The links that overlap in each preshape's open posture, with their signed
-    distances. Reported, not failed: the simulator runs without self-collision, so an
-    overlap changes no grasp here (the contract test `assert_hand_free_of_self_collision`
-    fails it)."""
-    collisions = open_preshape_collisions(hand, CollisionModel(hand.urdf()))
-    clear = [name for name, pairs in collisions.items() if not pairs]
-    lines = [f"open preshapes free of self-collision: {', '.join(clear) or 'none'}"]
-    for name, pairs in collisions.items():
-        if pairs:
-            overlaps = ", ".join(
-                f"{a}-{b} {round(1000 * distance, 1) + 0.0:.1f} mm" for a, b, distance in pairs
-            )
-            lines.append(f"self-collision in the open {name}: {overlaps}")
-    return lines
 
 
 def _closing_check(hand: HandDescription, pictures: Path | None) -> CheckResult:

@@ -149,6 +149,17 @@ def test_one_problem_is_counted_in_the_singular(fake_hand_urdf, capsys):
     assert lines[1].endswith(": FAILED (1 problem)"), lines[1]
 
 
+def test_an_open_preshape_whose_fingers_cross_fails_the_description(fake_hand, capsys):
+    """check-hand fails what the contract test fails: links that overlap when open."""
+    crossed = {"fk_finger_joint": 1.2, "fk_thumb_joint": 1.2}  # the two cylinders cross
+    preshape = HandPreshape("pinch", crossed, crossed, 0.06)
+    hand = dataclasses.replace(fake_hand, name="crossed_hand", preshapes={"pinch": preshape})
+    assert check_hand_command("crossed_hand", registry=_registry_with(hand), hold=False) == 1
+    out = capsys.readouterr().out
+    assert "open preshapes free of self-collision: none" in out
+    assert "problem: preshape 'pinch' open: links 'fk_finger' and 'fk_thumb' collide" in out
+
+
 # A rod lying across the fake hand's palm, between its finger and its thumb (which close
 # about palm x): the fake hand, at full strength, holds it in both of its trials.
 ROD = DesignObject("cylinder", (0.0, 0.0, 0.035), 0.015, (1.0, 0.0, 0.0), 0.1)
