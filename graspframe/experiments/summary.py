@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from graspframe.defaults import STRATEGY_METHOD
-from graspframe.experiments.trials import swept_object
+from graspframe.experiments.trials import TrialRow, TrialSpec, swept_object
 from graspframe.files import atomic_output, atomic_write
 
 COLUMNS = (
@@ -44,26 +44,43 @@ def _mean(values) -> float | None:
     return float(np.mean(numbers)) if numbers else None
 
 
-def size_conditions(rows: list[dict]) -> list[str]:
+def size_conditions(rows: list[TrialRow]) -> list[str]:
     """The experiment-A-at-another-size conditions present ("A075", "A125", ...)."""
-    found = {
-        r["condition"] for r in rows if r["condition"].startswith("A") and r["condition"] != "A"
-    }
-    return sorted(found)
+    conditions = {r.spec.condition for r in rows}
+    return sorted(c for c in conditions if c.startswith("A") and c != "A")
 
 
 OBJECT = "object"  # the column of a sweep over objects, after "grasp"
 
 
-def mount_label(row: dict) -> str:
+def mount_label(spec: TrialSpec) -> str:
     """The trial's mount, with its strategy when it is not the method's ("arm/servo")."""
-    mount, strategy = row.get("mount", "arm"), row.get("strategy", STRATEGY_METHOD)
+    mount, strategy, noise = spec.mount, spec.strategy, spec.camera_noise
     label = mount if strategy == STRATEGY_METHOD else f"{mount}/{strategy}"
-    noise = row.get("camera_noise", 1.0)
     return label if noise == 1.0 or strategy == STRATEGY_METHOD else f"{label} x{noise:g}"
 
 
-def summarize(rows: list[dict]) -> list[dict]:
+def _a_columns(a: TrialRow | None) -> dict:
+    """The summary's experiment A columns of its trial (None: there was none)."""
+    if a is None:
+        return dict.fromkeys((c for c in COLUMNS if c.startswith("A_")), None)
+    return {
+        "A_success": a.success,
+        "A_held_after_lift": a.held_after_lift,
+        "A_held_under_disturbance": a.held_under_disturbance,
+        "A_position_err_mm": a.position_err_mm,
+        "A_orientation_err_deg": a.orientation_err_deg,
+        "A_robot_vf": a.robot_vf,
+        "A_human_vf": a.human_vf,
+        "A_robot_epsilon": a.robot_epsilon,
+        "A_human_epsilon": a.human_epsilon,
+        "A_robot_volume": a.robot_volume,
+        "A_human_volume": a.human_volume,
+        "A_human_held": a.human_held,
+    }
+
+
+def summarize(rows: list[TrialRow]) -> list[dict]:
     """One summary row per (mount, hand, grasp), in the order the trials were planned;
     in a sweep over objects, per (mount, hand, grasp, object), with an "object" entry.
     Trials of a strategy other than the method's count under their own mount label,
@@ -72,47 +89,37 @@ def summarize(rows: list[dict]) -> list[dict]:
     A_success: held (after the lift and under the disturbance) in experiment A; the two
     parts are reported separately too. B_successes / B_held_after_lift: counts over the
     B directions. A<size>_success: experiment A on the object at <size> percent."""
-    groups: dict[tuple[str, str, str, str | None], list[dict]] = {}
+    groups: dict[tuple[str, str, str, str | None], list[TrialRow]] = {}
     for row in rows:
-        chosen = swept_object(row["condition"], row.get("object"))
-        key = (mount_label(row), row["hand"], row["grasp"], chosen)
+        spec = row.spec
+        chosen = swept_object(spec.condition, spec.object)
+        key = (mount_label(spec), spec.hand, spec.grasp, chosen)
         groups.setdefault(key, []).append(row)
     sizes = size_conditions(rows)
     summary = []
     for (mount, hand, grasp, chosen), trials in groups.items():
-        a = next((t for t in trials if t["condition"] == "A"), {})
-        b = [t for t in trials if t["condition"].startswith("B")]
-        failures = [t for t in trials if t.get("status") != "ok" or not t.get("success")]
+        a = next((t for t in trials if t.spec.condition == "A"), None)
+        b = [t for t in trials if t.spec.condition.startswith("B")]
+        failures = [t for t in trials if not t.ok or not t.success]
         entry = {
             "mount": mount,
             "hand": hand,
             "grasp": grasp,
-            "A_success": a.get("success"),
-            "A_held_after_lift": a.get("held_after_lift"),
-            "A_held_under_disturbance": a.get("held_under_disturbance"),
-            "A_position_err_mm": a.get("position_err_mm"),
-            "A_orientation_err_deg": a.get("orientation_err_deg"),
-            "A_robot_vf": a.get("robot_vf"),
-            "A_human_vf": a.get("human_vf"),
-            "A_robot_epsilon": a.get("robot_epsilon"),
-            "A_human_epsilon": a.get("human_epsilon"),
-            "A_robot_volume": a.get("robot_volume"),
-            "A_human_volume": a.get("human_volume"),
-            "A_human_held": a.get("human_held"),
+            **_a_columns(a),
             "B_trials": len(b),
-            "B_successes": sum(bool(t.get("success")) for t in b),
-            "B_held_after_lift": sum(bool(t.get("held_after_lift")) for t in b),
-            "B_position_err_mm": _mean(t.get("position_err_mm") for t in b),
-            "B_orientation_err_deg": _mean(t.get("orientation_err_deg") for t in b),
-            "B_robot_vf_mean": _mean(t.get("robot_vf") for t in b),
+            "B_successes": sum(bool(t.success) for t in b),
+            "B_held_after_lift": sum(bool(t.held_after_lift) for t in b),
+            "B_position_err_mm": _mean(t.position_err_mm for t in b),
+            "B_orientation_err_deg": _mean(t.orientation_err_deg for t in b),
+            "B_robot_vf_mean": _mean(t.robot_vf for t in b),
             "failures": len(failures),
         }
         if chosen is not None:
             entry[OBJECT] = chosen
         for condition in sizes:
-            trial = next((t for t in trials if t["condition"] == condition), {})
-            entry[f"{condition}_success"] = trial.get("success")
-            entry[f"{condition}_held_after_lift"] = trial.get("held_after_lift")
+            trial = next((t for t in trials if t.spec.condition == condition), None)
+            entry[f"{condition}_success"] = None if trial is None else trial.success
+            entry[f"{condition}_held_after_lift"] = None if trial is None else trial.held_after_lift
         summary.append(entry)
     return summary
 

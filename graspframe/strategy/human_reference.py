@@ -47,6 +47,7 @@ from graspframe.hal.drivers import Backend, World, WorldConfig
 from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
+from graspframe.motion.joint_limits import LimitExcess
 from graspframe.results import jsonable, read_json_file
 from graspframe.snapshots import PICTURE_STYLE, Snapshot, draw_snapshots, scene_of_robot
 from graspframe.strategy.execution import ExecutionLog, Grip, execute
@@ -60,6 +61,9 @@ CACHE_KIND = "human_references"
 PICTURE = "picture.png"  # the picture of the simulated grasp, in its cache entry
 # Part of the cache key: bump it when the way references are simulated changes.
 PROCEDURE_VERSION = 5
+# Part of the cache key: bump it when what an entry stores changes (2: every field of
+# the held verdict and of the joint-limit excesses).
+STORED_VALUES_VERSION = 2
 SETTLE_TIME = 1.0  # [s] after the slowest joint could have reached its closed target
 OPENING_SETTLE_TIME = 0.2  # [s] after the slowest joint could have reached its open target
 # The hand takes its open posture this far back along its palm normal, then approaches.
@@ -85,13 +89,15 @@ class HumanReference:
     source: str
     held: HeldVerdict | None = None
     picture: Path | None = None
-    joint_limit_violations: tuple[dict, ...] = ()
+    joint_limit_violations: tuple[LimitExcess, ...] = ()
 
     @property
     def touching_fingers(self) -> list[str]:
         return sorted({c.real_finger for c in self.contacts})
 
-    def to_json(self) -> dict:
+    def to_json(self) -> dict[str, object]:
+        """The file format; a simulated reference adds its held verdict and the joints
+        past their limits, every field of each (its cache entry reads them back)."""
         data: dict[str, object] = {
             "format": FORMAT,
             "grasp": self.grasp.value,
@@ -100,9 +106,9 @@ class HumanReference:
             "contacts": [c.to_dict() for c in self.contacts],
         }
         if self.held is not None:
-            data["held_test"] = self.held.to_dict()
+            data["held_test"] = jsonable(self.held)
         if self.joint_limit_violations:
-            data["joint_limit_violations"] = list(self.joint_limit_violations)
+            data["joint_limit_violations"] = jsonable(self.joint_limit_violations)
         return data
 
 
@@ -166,9 +172,9 @@ def _cached_reference(entry: CacheEntry, obj: ObjectDescription) -> HumanReferen
         obj.name,
         _contacts_from_json(values, entry.folder),
         "cache",
-        HeldVerdict.from_dict(values["held_test"]),
+        HeldVerdict.from_json(values["held_test"]),
         entry.files.get(PICTURE),
-        tuple(values.get("joint_limit_violations", ())),
+        tuple(LimitExcess.from_json(e) for e in values.get("joint_limit_violations", ())),
     )
 
 
@@ -229,7 +235,7 @@ def simulate_human_grasp(
     outcome = execution.outcome
     verdict = outcome.held or HeldVerdict(False, None, outcome.failure_reason)
     contacts = tuple(c.in_object_frame(outcome.T_world_object_at_hold) for c in outcome.contacts)
-    violations = tuple(e.to_dict() for e in execution.joint_limits.violations)
+    violations = execution.joint_limits.violations
     reference = HumanReference(grasp, obj.name, contacts, "simulated", verdict, picture, violations)
     if picture is not None:
         moments = [Snapshot.from_moment(m, robot.arm.joint_names) for m in execution.moments]
@@ -274,7 +280,8 @@ def _cache_key(
     backend: Backend,
     held: HeldTest,
 ) -> str:
-    digest = hashlib.sha256(f"procedure {PROCEDURE_VERSION} {ENTRY_FORMAT}".encode())
+    versions = f"procedure {PROCEDURE_VERSION} {ENTRY_FORMAT} values {STORED_VALUES_VERSION}"
+    digest = hashlib.sha256(versions.encode())
     digest.update(f"backend {backend.name}".encode())
     # The cached entry keeps its picture: a new picture style makes a new entry.
     digest.update(f"pictures {PICTURE_STYLE}".encode())
