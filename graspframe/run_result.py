@@ -276,4 +276,4 @@ class RunResult:
 
 def plan_json(checked: CheckedPlan) -> dict[str, Any]:
     """result.json's "plan": the plan, with the variants refused before it."""
-    return {**checked.plan.to_dict(), "variants_refused": list(checked.refused)}
+    return {**jsonable(checked.plan), "variants_refused": list(checked.refused)}

@@ -95,3 +95,8 @@ from graspframe.experiments.trials import TrialRow  # noqa: E402
 TrialRow.score_error
 TrialRow.limit_excess_deg
 TrialRow.limit_violations
+
+# A plan's field that only result.json shows (results.jsonable writes every field).
+from graspframe.strategy.planner import GraspPlan  # noqa: E402
+
+GraspPlan.standoff

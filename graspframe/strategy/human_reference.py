@@ -44,12 +44,11 @@ from graspframe.floating_base import mount_floating
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.drivers import Backend, World, WorldConfig
-from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.motion.joint_limits import LimitExcess
 from graspframe.results import jsonable, read_json_file
-from graspframe.snapshots import PICTURE_STYLE, Snapshot, draw_snapshots, scene_of_robot
+from graspframe.snapshots import PICTURE_STYLE, draw_grasp
 from graspframe.strategy.execution import ExecutionLog, Grip, execute
 from graspframe.strategy.executor import APPROACH_SPEED  # the robots' non-volar approach
 from graspframe.strategy.held_test import HeldTest, HeldVerdict
@@ -233,30 +232,18 @@ def simulate_human_grasp(
     )
     execution = execute(backend, config, HumanClosing(human, posture, z_palm), held or HeldTest())
     outcome = execution.outcome
-    verdict = outcome.held or HeldVerdict(False, None, outcome.failure_reason)
+    # The robot's rule: held, and touched by MIN_FINGERS real fingers (the palm counts).
+    verdict = replace(outcome.verdict, failure=outcome.failure_reason)
     contacts = tuple(c.in_object_frame(outcome.T_world_object_at_hold) for c in outcome.contacts)
     violations = execution.joint_limits.violations
     reference = HumanReference(grasp, obj.name, contacts, "simulated", verdict, picture, violations)
     if picture is not None:
-        moments = [Snapshot.from_moment(m, robot.arm.joint_names) for m in execution.moments]
-        _draw(picture, reference, verdict, robot, config, moments)
+        what = f"human {grasp.value}, {obj.name}"
+        draw_grasp(
+            picture, robot, config.T_world_arm_base, obj, config.table_height,
+            execution.moments, what, verdict.held, verdict.failure,
+        )  # fmt: skip
     return reference
-
-
-def _draw(
-    path: Path,
-    reference: HumanReference,
-    held: HeldVerdict,
-    robot: MountedRobot,
-    config: WorldConfig,
-    moments: list[Snapshot],
-) -> None:
-    scene = scene_of_robot(
-        robot.model, config.T_world_arm_base, config.hand, config.object, config.table_height
-    )
-    verdict = "held" if held.held else f"not held: {held.failure}"
-    title = f"human {reference.grasp.value}, {reference.object_name}; {verdict}"
-    draw_snapshots(path, scene, moments, title)
 
 
 def _travel_time(
