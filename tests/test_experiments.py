@@ -19,7 +19,13 @@ import pytest
 from rich.console import Console
 
 from graspframe.commands.evaluate import print_summary
-from graspframe.experiments.summary import plot_summary, summarize, summary_table, write_tables
+from graspframe.experiments.summary import (
+    COLUMNS,
+    plot_summary,
+    summarize,
+    summary_table,
+    write_tables,
+)
 from graspframe.experiments.sweep import SweepConfig, load_finished, plan_trials, run_sweep
 from graspframe.experiments.trials import (
     TrialRow,
@@ -339,3 +345,18 @@ def test_a_trial_row_has_typed_fields():
     assert ok.trial_id == "arm/barrett/pinch/B0" and ok.position_err_mm == 12.5
     assert not failed.ok and failed.error == "InputError: unknown hand" and failed.success is None
     assert failed == failed_row(failed.spec, "InputError: unknown hand", 0.25)
+
+
+def test_a_summary_row_is_its_csv_row():
+    rows = [
+        _trial_row("barrett", "pinch", condition, success=condition != "B1")
+        for condition in ("A", "B0", "B1", "A075")
+    ]
+    (row,) = summarize(rows)
+    assert row.a.success and row.a.position_err_mm == 12.345
+    assert (row.b.trials, row.b.successes, row.b.held_after_lift) == (2, 1, 2)
+    assert [(s.condition, s.success) for s in row.sizes] == [("A075", True)]
+    csv_row = row.to_csv()
+    assert list(csv_row)[: len(COLUMNS)] == list(COLUMNS)
+    assert list(csv_row)[len(COLUMNS) :] == ["A075_success", "A075_held_after_lift"]
+    assert csv_row["failures"] == 1 and csv_row["B_robot_vf_mean"] == 2.0

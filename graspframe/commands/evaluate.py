@@ -15,6 +15,7 @@ from graspframe.errors import InputError, UnknownNameError
 from graspframe.experiments.sweep import SweepConfig
 
 if TYPE_CHECKING:
+    from graspframe.experiments.summary import SummaryRow
     from graspframe.experiments.trials import TrialRow
 
 
@@ -138,7 +139,7 @@ def run_evaluation(config: SweepConfig, console: Console, err_console: Console) 
     )
 
 
-def print_summary(summary: list[dict], console: Console) -> None:
+def print_summary(summary: list[SummaryRow], console: Console) -> None:
     """The summary as terminal tables, one per experiment (summary.md has them in one
     markdown table), then the note that explains them."""
     from rich import box
