@@ -240,20 +240,16 @@ def _trial_title(trial: HoldTrial) -> str:
 
 
 def _draw_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> Path:
-    from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
+    from graspframe.snapshots import draw_grasp
 
     assert trial.checked is not None  # a trial with moments ran a plan
-    robot = trial.checked.robot
-    scene = scene_of_robot(robot.model, trial.checked.T_world_base, hand, trial.obj, 0.0)
-    frames = [Snapshot.from_moment(m, robot.arm.joint_names) for m in trial.moments]
-    verdict = "held" if trial.held else f"not held: {trial.outcome.failure_reason}"
-    title = (
-        f"{hand.name} alone, {trial.preshape} ({trial.grasp.value}) on its design object; {verdict}"
-    )
+    what = f"{hand.name} alone, {trial.preshape} ({trial.grasp.value}) on its design object"
     make_folder(folder, "pictures folder")
-    return draw_snapshots(
-        folder / f"{trial.preshape}_{trial.grasp.value}.png", scene, frames, title
-    )
+    path = folder / f"{trial.preshape}_{trial.grasp.value}.png"
+    return draw_grasp(
+        path, trial.checked.robot, trial.checked.T_world_base, trial.obj, 0.0, trial.moments,
+        what, trial.held, trial.outcome.failure_reason,
+    )  # fmt: skip
 
 
 def _draw_posed_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> Path:

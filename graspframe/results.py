@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import platform
@@ -21,7 +22,8 @@ VERSIONED_PACKAGES = ("graspframe", "sapien", "pin", "placo", "ruckig", "rerun-s
 
 
 def jsonable(value: Any) -> Any:
-    """numpy arrays and scalars, enums, paths and contacts as plain JSON values."""
+    """numpy arrays and scalars, enums, paths, contacts and dataclasses (their fields) as
+    plain JSON values."""
     if isinstance(value, np.ndarray):
         return jsonable(value.tolist())
     if isinstance(value, np.generic):
@@ -32,6 +34,9 @@ def jsonable(value: Any) -> Any:
         return value.to_dict()
     if isinstance(value, UrdfModel):  # a robot model: what it is, not its text
         return {"name": value.name, "digest": value.digest, "sources": jsonable(value.sources)}
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        # A typed value: its fields by name, in their order.
+        return {f.name: jsonable(getattr(value, f.name)) for f in dataclasses.fields(value)}
     if isinstance(value, dict):
         return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, list | tuple | set | frozenset):

@@ -13,7 +13,7 @@ RESULT_FORMAT), read back as plain JSON by the sweeps' tables and by users.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -24,13 +24,17 @@ from graspframe.contacts import Contact
 from graspframe.defaults import SCENE_OBJECT_XY, TABLE_HEIGHT
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.classifier import Neighbour
+from graspframe.metrics.quality import GraspQuality
 from graspframe.metrics.virtual_fingers import VirtualFingerComparison, VirtualFingerGrasp
+from graspframe.motion.joint_limits import LimitExcess
+from graspframe.results import jsonable
 from graspframe.strategy.arm_path import CheckedPlan
 from graspframe.strategy.execution import Execution, GraspOutcome
-from graspframe.strategy.held_test import HeldVerdict
+from graspframe.strategy.held_test import HeldVerdict, InHandMotion
 
-if TYPE_CHECKING:  # the runner imports this module
+if TYPE_CHECKING:  # the runner imports this module; the servo only for its strategy
     from graspframe.run_request import RunRequest
+    from graspframe.strategy.servo import ServoStep
 
 RESULT_FORMAT = "graspframe.result/2"
 
@@ -80,13 +84,13 @@ class Quality:
     """Ferrari-Canny L1 grasp quality of a contact set (metrics/quality.py's numbers), or
     why it could not be computed."""
 
-    values: Mapping[str, Any] | None = None
+    measured: GraspQuality | None = None
     error: str | None = None
 
     def to_json(self) -> dict[str, Any] | None:
         if self.error is not None:
             return {"error": self.error}
-        return None if self.values is None else dict(self.values)
+        return None if self.measured is None else self.measured.to_dict()
 
 
 @dataclass(frozen=True)
@@ -113,14 +117,16 @@ class Score:
     error: str | None = None
     quality_robot: Quality = field(default_factory=Quality)
     quality_human: Quality = field(default_factory=Quality)
-    human_joint_limit_violations: tuple[dict, ...] = ()
+    human_joint_limit_violations: tuple[LimitExcess, ...] = ()
 
     def to_json(self) -> dict[str, Any]:
         data: dict[str, Any] = {
             "human_source": self.human_source,
             "human_touching_fingers": list(self.human_touching_fingers),
-            "human_held_test": None if self.human_held is None else self.human_held.to_dict(),
-            "human_joint_limit_violations": list(self.human_joint_limit_violations),
+            "human_held_test": None if self.human_held is None else self.human_held.result_json(),
+            "human_joint_limit_violations": [
+                e.to_dict() for e in self.human_joint_limit_violations
+            ],
         }
         if self.error is not None:
             data["error"] = self.error
@@ -149,36 +155,51 @@ def _with_contacts(grasp: dict, contacts_object: Sequence[Contact]) -> dict:
     return grasp
 
 
+# result.json's names of the held verdict's fields where they differ; its failure is
+# the outcome's failure_reason.
+_VERDICT_NAMES = {"after_lift": "held_after_lift", "under_disturbance": "held_under_disturbance"}
+_VERDICT_NOT_LISTED = ("failure",)
+
+
 def outcome_json(outcome: GraspOutcome) -> dict[str, Any]:
-    """result.json's "outcome": the grasp and its held test."""
+    """result.json's "outcome": the grasp (every field of its `Grip`) and its held test
+    (every field of its `HeldVerdict`, motions in the hand in [mm] and [deg]), with
+    its contacts in the world and the object frame."""
     T_world_object = outcome.T_world_object_at_hold
-    return {
+    data: dict[str, Any] = {
         "success": outcome.success,
         "failure_reason": outcome.failure_reason,
         "touching_fingers": outcome.touching_fingers,
         "n_contacts": len(outcome.contacts),
-        "palm_contact": outcome.palm_contact,
-        "corrections": outcome.corrections,
-        "goals": outcome.goals,
-        "held_after_lift": outcome.held_after_lift,
-        "held_under_disturbance": outcome.held_under_disturbance,
-        "object_rise": outcome.object_rise,
-        "lift_height": outcome.lift_height,
-        "lift_motion": outcome.lift_motion.to_dict() if outcome.lift_motion else None,
-        "disturbance": {d: m.to_dict() for d, m in outcome.disturbance.items()},
-        "disturbance_skipped": outcome.disturbance_skipped,
-        "fingers_after_lift": outcome.fingers_after_lift,
-        "T_world_object_at_hold": T_world_object,
-        "contacts_world": [c.to_dict() for c in outcome.contacts],
-        "contacts_object": [c.in_object_frame(T_world_object).to_dict() for c in outcome.contacts],
     }
+    data.update(jsonable(outcome.grip))
+    verdict = outcome.verdict
+    for item in fields(verdict):
+        if item.name not in _VERDICT_NOT_LISTED:
+            value = _with_motions_shown(getattr(verdict, item.name))
+            data[_VERDICT_NAMES.get(item.name, item.name)] = value
+    data["T_world_object_at_hold"] = T_world_object
+    data["contacts_world"] = [c.to_dict() for c in outcome.contacts]
+    data["contacts_object"] = [
+        c.in_object_frame(T_world_object).to_dict() for c in outcome.contacts
+    ]
+    return data
+
+
+def _with_motions_shown(value: Any) -> Any:
+    """`value` with its motions in the hand as result.json shows them ([mm], [deg])."""
+    if isinstance(value, InHandMotion):
+        return value.to_dict()
+    if isinstance(value, Mapping):
+        return {key: _with_motions_shown(item) for key, item in value.items()}
+    return value
 
 
 @dataclass(frozen=True)
 class ServoReport:
-    """The servo strategy's measurements (each as its execute.servo event) and servo.png."""
+    """The servo strategy's measurements, in the order it made them, and servo.png."""
 
-    steps: tuple[dict, ...]
+    steps: tuple[ServoStep, ...]
     picture: Path
 
 
@@ -240,7 +261,8 @@ class RunResult:
         if self.human_reference_picture is not None:
             data["human_reference_picture"] = str(self.human_reference_picture)
         if self.servo is not None:
-            data["servo"] = {"steps": list(self.servo.steps), "picture": str(self.servo.picture)}
+            steps = [step.to_json() for step in self.servo.steps]
+            data["servo"] = {"steps": steps, "picture": str(self.servo.picture)}
         if self.error is not None:
             data["error"] = self.error
             data["traceback"] = self.traceback
@@ -254,4 +276,4 @@ class RunResult:
 
 def plan_json(checked: CheckedPlan) -> dict[str, Any]:
     """result.json's "plan": the plan, with the variants refused before it."""
-    return {**checked.plan.to_dict(), "variants_refused": list(checked.refused)}
+    return {**jsonable(checked.plan), "variants_refused": list(checked.refused)}

@@ -52,7 +52,7 @@ from graspframe.run_result import (
     plan_json,
 )
 from graspframe.scoring import score_grasp
-from graspframe.snapshots import Snapshot, draw_snapshots, scene_of_robot
+from graspframe.snapshots import draw_grasp
 from graspframe.strategy.arm_path import CheckedPlan, choose_plan, floating_plan
 from graspframe.strategy.execution import Execution, GraspPolicy, execute
 from graspframe.strategy.executor import MethodStrategy
@@ -421,15 +421,14 @@ def _draw_snapshots(
     contact, hold and after the lift (None when nothing was captured)."""
     if not execution.moments:
         return None
-    hand, arm, outcome, obj = config.hand, checked.robot.arm, execution.outcome, config.object
+    robot, outcome, obj = checked.robot, execution.outcome, config.object
     assert obj is not None  # a run's world always holds its object
-    scene = scene_of_robot(
-        checked.robot.model, checked.T_world_base, hand, obj, config.table_height
+    what = (
+        f"{robot.hand.name} on {robot.arm.name}: human {grasp.value} -> "
+        f"{checked.plan.preshape}, {obj.name}"
     )
-    frames = [Snapshot.from_moment(m, arm.joint_names) for m in execution.moments]
-    verdict = "held" if outcome.success else f"failed: {outcome.failure_reason}"
-    title = (
-        f"{hand.name} on {arm.name}: human {grasp.value} -> {checked.plan.preshape}, "
-        f"{obj.name}; {verdict}"
-    )
-    return draw_snapshots(Path(run_dir) / "snapshots.png", scene, frames, title)
+    path = Path(run_dir) / "snapshots.png"
+    return draw_grasp(
+        path, robot, checked.T_world_base, obj, config.table_height, execution.moments, what,
+        outcome.success, outcome.failure_reason,
+    )  # fmt: skip

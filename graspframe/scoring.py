@@ -87,4 +87,4 @@ def contact_quality(contacts_object: Sequence[Contact], obj: ObjectDescription) 
         )
     except GraspframeError as exc:  # e.g. a measured contacts file without normals
         return Quality(error=str(exc))
-    return Quality(quality.to_dict())
+    return Quality(quality)

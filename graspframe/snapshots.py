@@ -52,6 +52,7 @@ from numpy.typing import NDArray
 from graspframe.contacts import Contact
 from graspframe.errors import GraspframeError, InputError
 from graspframe.hal.descriptions import HandDescription, joints_by_name
+from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.hal.objects import ObjectDescription
 from graspframe.pictures import style
 from graspframe.pictures.inputs import checked_figure, checked_object_soup, contact_points, pose
@@ -421,3 +422,23 @@ def draw_snapshots(
         title, headers, ROW_LABELS, panels, legend_entries(colours, with_arm, with_table=True)
     )
     return write_png(path, sheet)
+
+
+def draw_grasp(
+    path: Path,
+    robot: MountedRobot,
+    T_world_root: NDArray[np.float64],
+    obj: ObjectDescription,
+    table_height: float,
+    moments: Sequence[GraspMoment],
+    what: str,
+    held: bool,
+    failure: str | None,
+) -> Path:
+    """The picture of an executed grasp (the robot's run, the human reference, a hand's
+    check): `robot` (its model's root at T_world_root), the object and the table at each
+    of `moments`, titled "<what>; held" or "<what>; not held: <failure>"."""
+    scene = scene_of_robot(robot.model, T_world_root, robot.hand, obj, table_height)
+    frames = [Snapshot.from_moment(m, robot.arm.joint_names) for m in moments]
+    verdict = "held" if held else f"not held: {failure}"
+    return draw_snapshots(path, scene, frames, f"{what}; {verdict}")

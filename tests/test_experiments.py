@@ -19,9 +19,21 @@ import pytest
 from rich.console import Console
 
 from graspframe.commands.evaluate import print_summary
-from graspframe.experiments.summary import plot_summary, summarize, summary_table, write_tables
+from graspframe.experiments.summary import (
+    COLUMNS,
+    plot_summary,
+    summarize,
+    summary_table,
+    write_tables,
+)
 from graspframe.experiments.sweep import SweepConfig, load_finished, plan_trials, run_sweep
-from graspframe.experiments.trials import TrialSpec, experiment_b_errors, run_trial_isolated
+from graspframe.experiments.trials import (
+    TrialRow,
+    TrialSpec,
+    experiment_b_errors,
+    failed_row,
+    run_trial_isolated,
+)
 from graspframe.experiments.workers import run_in_workers
 
 GRASPS = ("large_diameter", "precision_disc")
@@ -81,13 +93,13 @@ def _reduced(out: Path, executor: str) -> SweepConfig:
 
 
 def _numbers(rows):
-    return {r["trial_id"]: tuple(r.get(k) for k in NUMBERS) for r in rows}
+    return {r.trial_id: tuple(getattr(r, k) for k in NUMBERS) for r in rows}
 
 
 @pytest.mark.slow
 def test_reduced_sweep_local_and_dask_give_the_same_numbers(tmp_path, cache_env):
     local = run_sweep(_reduced(tmp_path / "local", "local"))
-    assert len(local) == 4 and all(r["status"] == "ok" for r in local)
+    assert len(local) == 4 and all(r.ok for r in local)
     dask = run_sweep(_reduced(tmp_path / "dask", "dask"))
     assert _numbers(dask) == _numbers(local)
     # Sweeps are for numbers: no trial is recorded unless asked for.
@@ -136,18 +148,18 @@ def test_a_killed_sweep_resumes_without_losing_or_repeating_a_trial(tmp_path, ca
 def test_a_trial_over_its_time_limit_is_recorded_as_failed(tmp_path):
     spec = TrialSpec("barrett", "pinch", "A", (0.0, 0.0), 0, str(tmp_path))
     row = run_trial_isolated(spec, time_limit=0.5)
-    assert row["status"] == "failed"
-    assert row["error"] == "timed out after 0 s" or row["error"].startswith("timed out")
-    assert row["trial_id"] == "arm/barrett/pinch/A"
+    assert row.status == "failed"
+    assert row.error == "timed out after 0 s" or str(row.error).startswith("timed out")
+    assert row.trial_id == "arm/barrett/pinch/A"
 
 
 def test_a_trial_that_raises_is_recorded_as_failed_and_the_sweep_goes_on(tmp_path, cache_env):
     config = SweepConfig(("barrett", "nohand"), ("pinch",), tmp_path, directions=0, workers=1)
     rows = run_sweep(config)
-    by_id = {r["trial_id"]: r for r in rows}
-    assert by_id["arm/nohand/pinch/A"]["status"] == "failed"
-    assert "unknown hand 'nohand'" in by_id["arm/nohand/pinch/A"]["error"]
-    assert by_id["arm/barrett/pinch/A"]["status"] == "ok"
+    by_id = {r.trial_id: r for r in rows}
+    assert by_id["arm/nohand/pinch/A"].status == "failed"
+    assert "unknown hand 'nohand'" in str(by_id["arm/nohand/pinch/A"].error)
+    assert by_id["arm/barrett/pinch/A"].ok
 
 
 def _children(pid: int) -> list[int]:
@@ -193,13 +205,13 @@ def test_a_worker_killed_mid_trial_fails_that_trial_and_the_others_run(tmp_path,
     killer.start()
     rows = run_sweep(config)
     killer.join()
-    by_id = {r["trial_id"]: r for r in rows}
+    by_id = {r.trial_id: r for r in rows}
     assert len(killed) == 1
-    assert by_id["arm/barrett/pinch/A"]["status"] == "failed"
-    assert by_id["arm/barrett/pinch/A"]["error"] == "the trial process died (exit code -9)"
-    assert by_id["arm/barrett/pinch/A"]["hand"] == "barrett"  # the row of any trial
-    assert by_id["arm/barrett/pinch/B0"]["status"] == "ok"
-    assert "unknown hand" in by_id["arm/nohand/pinch/B0"]["error"]
+    assert by_id["arm/barrett/pinch/A"].status == "failed"
+    assert by_id["arm/barrett/pinch/A"].error == "the trial process died (exit code -9)"
+    assert by_id["arm/barrett/pinch/A"].to_json()["hand"] == "barrett"  # the row of any trial
+    assert by_id["arm/barrett/pinch/B0"].ok
+    assert "unknown hand" in str(by_id["arm/nohand/pinch/B0"].error)
     assert load_finished(tmp_path / "trials.jsonl").keys() == by_id.keys()
     assert not multiprocessing.active_children()
     assert not any(_running(pid) for pid in killed)
@@ -210,10 +222,10 @@ def test_a_trial_over_its_time_limit_fails_and_later_trials_run(tmp_path, cache_
     config = SweepConfig(
         ("barrett", "nohand"), ("pinch",), tmp_path, directions=0, workers=1, time_limit=0.5
     )
-    by_id = {r["trial_id"]: r for r in run_sweep(config)}
-    assert by_id["arm/barrett/pinch/A"]["status"] == "failed"
-    assert by_id["arm/barrett/pinch/A"]["error"] == "timed out after 0 s"
-    assert "unknown hand 'nohand'" in by_id["arm/nohand/pinch/A"]["error"]
+    by_id = {r.trial_id: r for r in run_sweep(config)}
+    assert by_id["arm/barrett/pinch/A"].status == "failed"
+    assert by_id["arm/barrett/pinch/A"].error == "timed out after 0 s"
+    assert "unknown hand 'nohand'" in str(by_id["arm/nohand/pinch/A"].error)
     assert not multiprocessing.active_children()
 
 
@@ -222,7 +234,7 @@ def test_a_sweep_stopped_early_leaves_no_worker(tmp_path):
     specs.insert(1, TrialSpec("barrett", "pinch", "A", (0.0, 0.0), 0, str(tmp_path)))
     rows = run_in_workers(specs, workers=2, time_limit=300.0)
     first = next(rows)
-    assert first["status"] == "failed"
+    assert first.status == "failed"
     pids = [worker.pid for worker in multiprocessing.active_children()]
     assert pids
     rows.close()  # what an exception (Ctrl-C) in the sweep's loop does
@@ -245,7 +257,8 @@ def test_one_and_two_workers_give_the_same_rows(tmp_path, cache_env):
 
     def rows(workers):
         rows = run_in_workers([karlsruhe, barrett, karlsruhe], workers, time_limit=300.0)
-        return [{k: v for k, v in row.items() if k not in NOT_RESULTS} for row in rows]
+        lines = [row.to_json() for row in rows]
+        return [{k: v for k, v in line.items() if k not in NOT_RESULTS} for line in lines]
 
     one = rows(1)  # in the order given
     assert all(row["status"] == "ok" for row in one)
@@ -253,15 +266,14 @@ def test_one_and_two_workers_give_the_same_rows(tmp_path, cache_env):
     assert sorted(rows(2), key=json.dumps) == sorted(one, key=json.dumps)
 
 
-def _trial_row(hand: str, grasp: str, condition: str, success: bool) -> dict:
-    return {
-        "trial_id": f"arm/{hand}/{grasp}/{condition}", "mount": "arm", "hand": hand,
-        "grasp": grasp, "condition": condition, "status": "ok", "success": success,
-        "held_after_lift": True, "held_under_disturbance": success,
-        "position_err_mm": 12.345, "orientation_err_deg": 3.21, "robot_vf": 2.5,
-        "human_vf": 3.0, "robot_epsilon": 0.0123, "human_epsilon": 0.0345,
-        "robot_volume": 1.2e-5, "human_volume": 3e-6, "human_held": True,
-    }  # fmt: skip
+def _trial_row(hand: str, grasp: str, condition: str, success: bool) -> TrialRow:
+    return TrialRow(
+        TrialSpec(hand, grasp, condition, (0.0, 0.0), 0, "runs"), "ok", success=success,
+        held_after_lift=True, held_under_disturbance=success,
+        position_err_mm=12.345, orientation_err_deg=3.21, robot_vf=2, human_vf=3,
+        robot_epsilon=0.0123, human_epsilon=0.0345, robot_volume=1.2e-5, human_volume=3e-6,
+        human_held=True,
+    )  # fmt: skip
 
 
 def test_the_summary_prints_as_terminal_tables_with_nothing_cut():
@@ -291,3 +303,60 @@ def test_the_summary_prints_as_terminal_tables_with_nothing_cut():
             line = next(line for line in table_lines if line.split()[:3] == cells[:3])
             assert line.split() == [word for cell in cells for word in cell.split()]
     assert "held: lifted 5 cm" in text
+
+
+# A trials.jsonl line as the sweep has always written it: the trial id, the spec's fields,
+# the status, the numbers (or the error) and the wall time, in this order.
+OK_LINE = (
+    '{"trial_id": "arm/barrett/pinch/B0", "hand": "barrett", "grasp": "pinch", '
+    '"condition": "B0", "object_error": [0.05, 0.0], "seed": 0, "runs_dir": "runs", '
+    '"arm": "kuka", "record": false, "mount": "arm", "object": null, "strategy": "method", '
+    '"camera_noise": 1.0, "status": "ok", "result_path": "runs/x/result.json", '
+    '"success": false, "held_after_lift": true, "held_under_disturbance": false, '
+    '"failure_reason": "slipped", "touching_fingers": ["f1", "f2"], "corrections": 1, '
+    '"palm_contact": true, "position_err_mm": 12.5, "orientation_err_deg": 3.25, '
+    '"robot_vf": 2, "human_vf": 2, "score_error": null, "robot_epsilon": 0.125, '
+    '"human_epsilon": null, "robot_volume": 1.5e-05, "human_volume": null, '
+    '"human_held": true, "limit_excess_deg": 0.0, "limit_violations": [], '
+    '"wall_time": 4.5}'
+)
+FAILED_LINE = (
+    '{"trial_id": "arm/nohand/pinch/A", "hand": "nohand", "grasp": "pinch", '
+    '"condition": "A", "object_error": [0.0, 0.0], "seed": 0, "runs_dir": "runs", '
+    '"arm": "kuka", "record": false, "mount": "arm", "object": null, "strategy": "method", '
+    '"camera_noise": 1.0, "status": "failed", "error": "InputError: unknown hand", '
+    '"wall_time": 0.25}'
+)
+
+
+@pytest.mark.parametrize("line", [OK_LINE, FAILED_LINE])
+def test_a_trial_row_reads_back_its_line_byte_for_byte(line):
+    row = TrialRow.from_json(json.loads(line))
+    assert json.dumps(row.to_json()) == line
+    assert TrialRow.from_json(json.loads(json.dumps(row.to_json()))) == row
+
+
+def test_a_trial_row_has_typed_fields():
+    ok, failed = (
+        TrialRow.from_json(json.loads(OK_LINE)),
+        TrialRow.from_json(json.loads(FAILED_LINE)),
+    )
+    assert ok.ok and ok.spec.object_error == (0.05, 0.0) and ok.touching_fingers == ("f1", "f2")
+    assert ok.trial_id == "arm/barrett/pinch/B0" and ok.position_err_mm == 12.5
+    assert not failed.ok and failed.error == "InputError: unknown hand" and failed.success is None
+    assert failed == failed_row(failed.spec, "InputError: unknown hand", 0.25)
+
+
+def test_a_summary_row_is_its_csv_row():
+    rows = [
+        _trial_row("barrett", "pinch", condition, success=condition != "B1")
+        for condition in ("A", "B0", "B1", "A075")
+    ]
+    (row,) = summarize(rows)
+    assert row.a.success and row.a.position_err_mm == 12.345
+    assert (row.b.trials, row.b.successes, row.b.held_after_lift) == (2, 1, 2)
+    assert [(s.condition, s.success) for s in row.sizes] == [("A075", True)]
+    csv_row = row.to_csv()
+    assert list(csv_row)[: len(COLUMNS)] == list(COLUMNS)
+    assert list(csv_row)[len(COLUMNS) :] == ["A075_success", "A075_held_after_lift"]
+    assert csv_row["failures"] == 1 and csv_row["B_robot_vf_mean"] == 2.0

@@ -3,14 +3,21 @@ judge both (graspframe/strategy/held_test.py)."""
 
 from __future__ import annotations
 
+import json
+from types import SimpleNamespace
+
+import numpy as np
 import pytest
 
-from graspframe.errors import InputError
+from graspframe.errors import InputError, MotionError
 from graspframe.grasps import HumanGrasp
 from graspframe.registry import default_registry
+from graspframe.results import jsonable
 from graspframe.run_request import RunRequest
+from graspframe.run_result import outcome_json
 from graspframe.runner import run_grasp
-from graspframe.strategy.held_test import HeldTest, InHandMotion
+from graspframe.strategy.execution import run_policy
+from graspframe.strategy.held_test import HeldTest, HeldVerdict, InHandMotion
 
 
 def test_a_lift_height_set_once_judges_the_robot_and_the_human(tmp_path, monkeypatch):
@@ -64,3 +71,40 @@ def test_the_bounds_and_the_words_follow_the_criteria():
     words = strict.disturbance_failure({"-y": motion})
     assert words is not None and "(allowed 5 mm, 5 deg)" in words
     assert "of the hand's 30 mm" in HeldTest(lift_height=0.03).lift_failure(0.01, None)
+
+
+def test_a_held_verdict_reads_back_every_field_from_its_json():
+    """A cached human reference keeps the whole verdict: the lift, the pushes, the
+    fingers, not only whether it held."""
+    verdict = HeldVerdict(
+        after_lift=True,
+        under_disturbance=False,
+        failure="the object slipped under the disturbance",
+        object_rise=0.0483,
+        lift_height=0.03,
+        lift_motion=InHandMotion(0.0012, 1.5),
+        disturbance={"+x": InHandMotion(0.001, 0.5), "-x": InHandMotion(0.025, 12.0)},
+        fingers_after_lift=("index", "thumb"),
+    )
+    read_back = HeldVerdict.from_json(json.loads(json.dumps(jsonable(verdict))))
+    assert read_back == verdict
+    skipped = HeldVerdict(False, None, "slipped", disturbance_skipped="the lift failed")
+    assert HeldVerdict.from_json(json.loads(json.dumps(jsonable(skipped)))) == skipped
+
+
+class _Unreachable:
+    def grasp(self, world, motion, log):
+        raise MotionError("the pose is out of reach")
+
+
+def test_an_aborted_grasp_reports_the_lift_height_asked_for():
+    world = SimpleNamespace(
+        object=SimpleNamespace(T_world_object=lambda: np.eye(4)),
+        hand=SimpleNamespace(contacts=lambda: []),
+    )
+    held = HeldTest(lift_height=0.03)
+    outcome = run_policy(world, None, _Unreachable(), None, held)  # type: ignore[arg-type]
+    assert outcome.aborted and outcome.held is None and not outcome.success
+    assert outcome.lift_height == 0.03
+    assert outcome_json(outcome)["lift_height"] == 0.03
+    assert outcome_json(outcome)["held_after_lift"] is False

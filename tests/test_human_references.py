@@ -17,11 +17,8 @@ from graspframe.contacts import Contact
 from graspframe.grasps import HumanGrasp
 from graspframe.registry import default_registry
 from graspframe.strategy import human_reference
-from graspframe.strategy.human_reference import (
-    HeldVerdict,
-    HumanReference,
-    simulate_human_grasp,
-)
+from graspframe.strategy.held_test import HeldVerdict, InHandMotion
+from graspframe.strategy.human_reference import HumanReference, simulate_human_grasp
 
 REGISTRY = default_registry()
 HUMAN = REGISTRY.get_hand("human")
@@ -124,14 +121,22 @@ def _fake_simulation(monkeypatch, calls: list, verdict: HeldVerdict) -> None:
 def test_the_held_verdict_is_cached_with_the_contacts(tmp_path, monkeypatch):
     monkeypatch.setenv("GRASPFRAME_CACHE_DIR", str(tmp_path))
     calls: list = []
-    verdict = HeldVerdict(after_lift=True, under_disturbance=False, failure="slipped when pushed")
+    verdict = HeldVerdict(
+        after_lift=True,
+        under_disturbance=False,
+        failure="slipped when pushed",
+        object_rise=0.049,
+        lift_motion=InHandMotion(0.001, 2.0),
+        disturbance={"+x": InHandMotion(0.03, 4.0)},
+        fingers_after_lift=("index", "thumb"),
+    )
     _fake_simulation(monkeypatch, calls, verdict)
     obj = REGISTRY.default_object_for(G.PINCH)
     first = human_reference.human_reference(G.PINCH, obj, HUMAN, SapienBackend)
     second = human_reference.human_reference(G.PINCH, obj, HUMAN, SapienBackend)
     assert calls == [G.PINCH]  # the second came from the cache
     assert second.source == "cache" and first.source == "simulated"
-    assert second.held == verdict
+    assert second.held == verdict  # every field: the lift, the pushes, the fingers
     assert second.picture == first.picture and second.picture.read_bytes().startswith(b"\x89PNG")
     (entry,) = (tmp_path / "human_references").glob("*/entry.json")
     assert json.loads(entry.read_text())["values"]["held_test"]["failure"] == "slipped when pushed"

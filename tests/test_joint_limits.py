@@ -25,7 +25,12 @@ from graspframe.floating_base import (
 from graspframe.grasps import HumanGrasp
 from graspframe.hal import HandDescription, ObjectDescription, World, WorldConfig
 from graspframe.motion.arm_motion import ArmMotion
-from graspframe.motion.joint_limits import TOLERANCE_DEG, JointLimitMonitor
+from graspframe.motion.joint_limits import (
+    TOLERANCE_DEG,
+    JointLimit,
+    JointLimitMonitor,
+    LimitExcess,
+)
 from graspframe.registry import default_registry
 from graspframe.results import jsonable
 from graspframe.run_request import RunRequest
@@ -311,7 +316,8 @@ def test_the_monitor_keeps_each_joints_largest_excess_and_tells_a_new_violation_
 
 
 def test_the_human_references_violations_are_cached_and_reported(tmp_path):
-    violation = {"joint": "hh_thumb_ip", "excess_deg": 91.0, "position_deg": -111.0}
+    limit = JointLimit("hh_thumb_ip", math.radians(-20.0), math.radians(80.0), False)
+    violation = LimitExcess(limit, math.radians(91.0), math.radians(-111.0), 1.5, "execute.closed")
     obj = REGISTRY.get_object("large_cylinder")
     reference = HumanReference(
         HumanGrasp.LARGE_DIAMETER,
@@ -323,12 +329,12 @@ def test_the_human_references_violations_are_cached_and_reported(tmp_path):
     )
     entry = write_entry(Path(tmp_path) / "reference", jsonable(reference.to_json()), {})
     cached = _cached_reference(read_entry(entry.folder), obj)
-    assert cached.joint_limit_violations == (violation,)
+    assert cached.joint_limit_violations == (violation,)  # every field, as it was
 
     score = Score(
         "cache", ("palm",), cached.held, (), (), human_joint_limit_violations=(violation,)
     )
-    assert score.to_json()["human_joint_limit_violations"] == [violation]
+    assert score.to_json()["human_joint_limit_violations"] == [violation.to_dict()]
     result = RunResult("human", RunRequest(hand="human"), {}, entry.folder, score=score)
     console = Console(record=True, width=200)
     print_run_summary(result, console)

@@ -18,6 +18,7 @@ from graspframe.grasps import HumanGrasp
 from graspframe.hal import AdapterShape
 from graspframe.mounting import mount
 from graspframe.registry import default_registry
+from graspframe.results import jsonable
 from graspframe.run_request import RunRequest
 from graspframe.runner import run_grasp
 from graspframe.strategy import executor
@@ -142,7 +143,7 @@ def test_the_object_goes_where_the_robot_hand_holds_it(hand_name, grasp):
     offset = plan.T_world_palm_goal[:3, 3] - plan.T_world_palm_pre[:3, 3]
     np.testing.assert_allclose(offset / np.linalg.norm(offset), plan.a_world, atol=1e-9)
     np.testing.assert_allclose(plan.T_world_palm_goal[:3, :3], plan.T_world_palm_pre[:3, :3])
-    json.dumps(plan.to_dict())  # plain and serialisable
+    json.dumps(jsonable(plan))  # plain and serialisable
 
 
 @pytest.mark.parametrize("grasp", list(HumanGrasp))

@@ -161,23 +161,19 @@ def test_bad_object_arguments_give_one_line_and_exit_1(command, message, capsys)
 
 def test_the_summary_of_a_sweep_over_objects_names_the_object(tmp_path):
     from graspframe.experiments.summary import COLUMNS, summarize, write_tables
+    from graspframe.experiments.trials import TrialRow, TrialSpec
 
     rows = [
-        {
-            "trial_id": f"arm/barrett/{grasp}/A/{name}",
-            "hand": "barrett",
-            "grasp": grasp,
-            "condition": "A",
-            "mount": "arm",
-            "object": name,
-            "status": "ok",
-            "success": held,
-            "held_after_lift": held,
-        }
+        TrialRow(
+            TrialSpec("barrett", grasp, "A", (0.0, 0.0), 0, "runs", object=name),
+            "ok",
+            success=held,
+            held_after_lift=held,
+        )
         for name, grasp, held in (("can", "large_diameter", True), ("brick", "pinch", False))
     ]
     summary = summarize(rows)
-    assert [(r["object"], r["grasp"], r["A_success"]) for r in summary] == [
+    assert [(r.object, r.grasp, r.a.success) for r in summary] == [
         ("can", "large_diameter", True),
         ("brick", "pinch", False),
     ]

@@ -91,3 +91,15 @@ from graspframe import events  # noqa: E402
 events.EVENT_KINDS
 events.EventKind.when
 events.PayloadField.meaning
+
+# A trial's numbers that only its trials.jsonl line carries (to_json reads every field).
+from graspframe.experiments.trials import TrialRow  # noqa: E402
+
+TrialRow.score_error
+TrialRow.limit_excess_deg
+TrialRow.limit_violations
+
+# A plan's field that only result.json shows (results.jsonable writes every field).
+from graspframe.strategy.planner import GraspPlan  # noqa: E402
+
+GraspPlan.standoff

@@ -19,28 +19,28 @@ import sys
 from pathlib import Path
 
 from graspframe.experiments.sweep import load_finished
-from graspframe.experiments.trials import CONDITION_A, swept_object
+from graspframe.experiments.trials import CONDITION_A, TrialRow, swept_object
 from graspframe.grasps import HumanGrasp
 from graspframe.registry import default_registry
 
 
-def _outcome(trial: dict) -> str:
-    if trial.get("success"):
+def _outcome(trial: TrialRow) -> str:
+    if trial.success:
         return "yes"
-    if trial.get("held_after_lift"):
+    if trial.held_after_lift:
         return "lift only"
-    reason = trial.get("failure_reason") or trial.get("error") or "not run"
+    reason = trial.failure_reason or trial.error or "not run"
     return f"**no**: {reason}"
 
 
-def held_rows(trials: list[dict], hand: str) -> list[str]:
+def held_rows(trials: list[TrialRow], hand: str) -> list[str]:
     """Markdown table rows (header included) of the hand's experiment-A trials."""
     registry = default_registry()
-    mounts = sorted({t["mount"] for t in trials})
+    mounts = sorted({t.spec.mount for t in trials})
     by_key = {
-        (t["grasp"], t.get("object") or "", t["mount"]): t
+        (t.spec.grasp, t.spec.object or "", t.spec.mount): t
         for t in trials
-        if t["hand"] == hand and t["condition"].startswith("A")
+        if t.spec.hand == hand and t.spec.condition.startswith("A")
     }
     rows = [
         "| grasp | object | " + " | ".join(mounts) + " |",
@@ -58,22 +58,23 @@ def held_rows(trials: list[dict], hand: str) -> list[str]:
     return rows
 
 
-def object_rows(trials: list[dict]) -> list[str]:
+def object_rows(trials: list[TrialRow]) -> list[str]:
     """Markdown table rows (header included) of the experiment-A trials of a sweep over
     objects: a row per object and grasp, a column per hand and mount, and the count."""
-    chosen = [t for t in trials if t["condition"] == CONDITION_A]
-    columns = sorted({(t["hand"], t["mount"]) for t in chosen}, key=lambda c: (c[0], c[1]))
+    chosen = [t.spec for t in trials if t.spec.condition == CONDITION_A]
+    row_of = {t.spec: t for t in trials}
+    columns = sorted({(s.hand, s.mount) for s in chosen}, key=lambda c: (c[0], c[1]))
     rows = [
         "| object | grasp | " + " | ".join(f"{h} {m}" for h, m in columns) + " |",
         "|---|---|" + "---|" * len(columns),
     ]
-    by_key = {(t["object"], t["grasp"], t["hand"], t["mount"]): t for t in chosen}
-    for name, grasp in sorted({(t["object"], t["grasp"]) for t in chosen}):
+    by_key = {(s.object or "", s.grasp, s.hand, s.mount): row_of[s] for s in chosen}
+    for name, grasp in sorted({(s.object or "", s.grasp) for s in chosen}):
         cells = [by_key.get((name, grasp, h, m)) for h, m in columns]
         rows.append(
             f"| {name} | {grasp} | " + " | ".join(_outcome(c) if c else "-" for c in cells) + " |"
         )
-    held = sum(bool(t.get("success")) for t in chosen)
+    held = sum(bool(row_of[s].success) for s in chosen)
     rows += ["", f"held: {held} of {len(chosen)}"]
     return rows
 
@@ -84,10 +85,10 @@ def main(argv: list[str]) -> int:
         return 2
     path = Path(argv[0])
     trials = list(load_finished(path).values())  # a line cut short by a kill is skipped
-    if any(swept_object(t["condition"], t.get("object")) for t in trials):
+    if any(swept_object(t.spec.condition, t.spec.object) for t in trials):
         print("\n".join(object_rows(trials)))
         return 0
-    hands = argv[1:] or sorted({t["hand"] for t in trials})
+    hands = argv[1:] or sorted({t.spec.hand for t in trials})
     for hand in hands:
         print(f"{hand}:\n")
         print("\n".join(held_rows(trials, hand)))

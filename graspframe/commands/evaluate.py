@@ -6,12 +6,17 @@ their help."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from rich.console import Console
 
 from graspframe.defaults import MOUNTS, STRATEGIES, STRATEGY_METHOD
 from graspframe.errors import InputError, UnknownNameError
 from graspframe.experiments.sweep import SweepConfig
+
+if TYPE_CHECKING:
+    from graspframe.experiments.summary import SummaryRow
+    from graspframe.experiments.trials import TrialRow
 
 
 def names_option(text: str, kind: str, known: list[str]) -> tuple[str, ...]:
@@ -119,9 +124,9 @@ def run_evaluation(config: SweepConfig, console: Console, err_console: Console) 
     ) as progress:
         task = progress.add_task("trials", total=total)
 
-        def on_trial(row: dict, done: int, _total: int) -> None:
-            state = "ok" if row.get("success") else row.get("error") or row.get("failure_reason")
-            progress.update(task, completed=done, description=f"{row['trial_id']}: {state}"[:60])
+        def on_trial(row: TrialRow, done: int, _total: int) -> None:
+            state = "ok" if row.success else row.error or row.failure_reason
+            progress.update(task, completed=done, description=f"{row.trial_id}: {state}"[:60])
 
         rows = run_sweep(config, on_trial=on_trial)
         progress.update(task, completed=len(rows))
@@ -134,7 +139,7 @@ def run_evaluation(config: SweepConfig, console: Console, err_console: Console) 
     )
 
 
-def print_summary(summary: list[dict], console: Console) -> None:
+def print_summary(summary: list[SummaryRow], console: Console) -> None:
     """The summary as terminal tables, one per experiment (summary.md has them in one
     markdown table), then the note that explains them."""
     from rich import box

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 from rich.console import Console
 
 if TYPE_CHECKING:  # the run's types import the whole pipeline: only for annotations here
+    from graspframe.motion.joint_limits import LimitExcess
     from graspframe.run_result import Quality, RunResult
 
 
@@ -19,18 +20,17 @@ def _tested(value: bool | None, skipped: str | None) -> str:
     return f"not tested ({skipped})" if skipped else "not tested"
 
 
-def _excess_text(violation: dict) -> str:
-    """A joint's excess past its limit, from its result.json entry: "12.3 deg" or "4.0 mm"."""
-    unit = "mm" if "excess_mm" in violation else "deg"
-    return f"{violation[f'excess_{unit}']:.1f} {unit}"
+def _excess_text(violation: LimitExcess) -> str:
+    """A joint's excess past its limit: "12.3 deg" or "4.0 mm"."""
+    return f"{violation.excess_shown:.1f} {violation.unit}"
 
 
 def _quality_text(quality: Quality) -> str:
     if quality.error is not None:
         return f"not computed ({quality.error})"
-    if quality.values is None:
+    if quality.measured is None:
         return "- (no contacts)"
-    return f"{quality.values['epsilon_l1']:.3f}"
+    return f"{quality.measured.epsilon_l1:.3f}"
 
 
 def print_run_summary(result: RunResult, console: Console) -> None:
@@ -90,7 +90,7 @@ def print_run_summary(result: RunResult, console: Console) -> None:
         for violation in score.human_joint_limit_violations:
             console.print(
                 f"[yellow]the simulator broke a joint limit of the human reference:[/yellow] "
-                f"{violation['joint']} past it by {_excess_text(violation)}"
+                f"{violation.joint} past it by {_excess_text(violation)}"
             )
         console.print(
             "grasp quality (Ferrari-Canny epsilon, L1): "
@@ -103,7 +103,7 @@ def print_run_summary(result: RunResult, console: Console) -> None:
     if result.human_reference_picture is not None:
         console.print(f"human reference: {result.human_reference_picture}")
     if result.servo is not None:
-        moved_mm = sum(math.hypot(*step["correction_mm"]) for step in result.servo.steps)
+        moved_mm = sum(math.hypot(*step.correction_mm) for step in result.servo.steps)
         console.print(
             f"servo: {len(result.servo.steps)} measurements, the hand moved {moved_mm:.0f} mm "
             f"in all: {result.servo.picture}"

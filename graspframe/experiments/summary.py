@@ -6,14 +6,15 @@ import csv
 import io
 import math
 from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.defaults import STRATEGY_METHOD
-from graspframe.experiments.trials import swept_object
+from graspframe.experiments.trials import TrialRow, TrialSpec, swept_object
 from graspframe.files import atomic_output, atomic_write
 
 if TYPE_CHECKING:
@@ -50,76 +51,149 @@ def _mean(values: Iterable[float | None]) -> float | None:
     return float(np.mean(numbers)) if numbers else None
 
 
-def size_conditions(rows: list[dict]) -> list[str]:
+def size_conditions(rows: list[TrialRow]) -> list[str]:
     """The experiment-A-at-another-size conditions present ("A075", "A125", ...)."""
-    found = {
-        r["condition"] for r in rows if r["condition"].startswith("A") and r["condition"] != "A"
-    }
-    return sorted(found)
+    conditions = {r.spec.condition for r in rows}
+    return sorted(c for c in conditions if c.startswith("A") and c != "A")
 
 
 OBJECT = "object"  # the column of a sweep over objects, after "grasp"
 
 
-def mount_label(row: dict) -> str:
+def mount_label(spec: TrialSpec) -> str:
     """The trial's mount, with its strategy when it is not the method's ("arm/servo")."""
-    mount, strategy = row.get("mount", "arm"), row.get("strategy", STRATEGY_METHOD)
+    mount, strategy, noise = spec.mount, spec.strategy, spec.camera_noise
     label = mount if strategy == STRATEGY_METHOD else f"{mount}/{strategy}"
-    noise = row.get("camera_noise", 1.0)
     return label if noise == 1.0 or strategy == STRATEGY_METHOD else f"{label} x{noise:g}"
 
 
-def summarize(rows: list[dict]) -> list[dict]:
+@dataclass(frozen=True)
+class ExperimentA:
+    """The numbers of a hand and grasp's experiment-A trial (None: no such trial, or
+    not computed), as TrialRow has them; summary.csv's "A_<field>" columns."""
+
+    success: bool | None = None
+    held_after_lift: bool | None = None
+    held_under_disturbance: bool | None = None
+    position_err_mm: float | None = None
+    orientation_err_deg: float | None = None
+    robot_vf: int | None = None
+    human_vf: int | None = None
+    robot_epsilon: float | None = None
+    human_epsilon: float | None = None
+    robot_volume: float | None = None
+    human_volume: float | None = None
+    human_held: bool | None = None
+
+    @classmethod
+    def of(cls, trial: TrialRow | None) -> ExperimentA:
+        if trial is None:
+            return cls()
+        return cls(**{f.name: getattr(trial, f.name) for f in fields(cls)})
+
+
+@dataclass(frozen=True)
+class ExperimentB:
+    """Over the B directions of a hand and grasp: how many trials, how many held
+    (success) and held after the lift, and the mean errors and robot virtual fingers
+    (None: none computed); summary.csv's "B_<field>" columns."""
+
+    trials: int
+    successes: int
+    held_after_lift: int
+    position_err_mm: float | None
+    orientation_err_deg: float | None
+    robot_vf_mean: float | None
+
+    @classmethod
+    def of(cls, trials: list[TrialRow]) -> ExperimentB:
+        return cls(
+            trials=len(trials),
+            successes=sum(bool(t.success) for t in trials),
+            held_after_lift=sum(bool(t.held_after_lift) for t in trials),
+            position_err_mm=_mean(t.position_err_mm for t in trials),
+            orientation_err_deg=_mean(t.orientation_err_deg for t in trials),
+            robot_vf_mean=_mean(t.robot_vf for t in trials),
+        )
+
+
+@dataclass(frozen=True)
+class SizeHeld:
+    """Experiment A on the object at another size (`condition`, e.g. "A075"): held, and
+    held after the lift (None: no such trial)."""
+
+    condition: str
+    success: bool | None
+    held_after_lift: bool | None
+
+
+@dataclass(frozen=True)
+class SummaryRow:
+    """One row of the summary: a mount label, hand and grasp (and object, in a sweep
+    over objects), experiment A and B, the trials that failed, and A at other sizes."""
+
+    mount: str
+    hand: str
+    grasp: str
+    object: str | None
+    a: ExperimentA
+    b: ExperimentB
+    failures: int
+    sizes: tuple[SizeHeld, ...] = ()
+
+    def to_csv(self) -> dict[str, Any]:
+        """summary.csv's row: its columns by name (COLUMNS, "object" when set, then
+        "<size condition>_success" and "_held_after_lift")."""
+        row: dict[str, Any] = {"mount": self.mount, "hand": self.hand, "grasp": self.grasp}
+        if self.object is not None:
+            row[OBJECT] = self.object
+        row.update({f"A_{f.name}": getattr(self.a, f.name) for f in fields(self.a)})
+        row.update({f"B_{f.name}": getattr(self.b, f.name) for f in fields(self.b)})
+        row["failures"] = self.failures
+        for size in self.sizes:
+            row[f"{size.condition}_success"] = size.success
+            row[f"{size.condition}_held_after_lift"] = size.held_after_lift
+        return row
+
+
+def summarize(rows: list[TrialRow]) -> list[SummaryRow]:
     """One summary row per (mount, hand, grasp), in the order the trials were planned;
-    in a sweep over objects, per (mount, hand, grasp, object), with an "object" entry.
+    in a sweep over objects, per (mount, hand, grasp, object), with its object.
     Trials of a strategy other than the method's count under their own mount label,
     "<mount>/<strategy>" (e.g. "arm/servo"), so the strategies sit side by side.
 
-    A_success: held (after the lift and under the disturbance) in experiment A; the two
-    parts are reported separately too. B_successes / B_held_after_lift: counts over the
-    B directions. A<size>_success: experiment A on the object at <size> percent."""
-    groups: dict[tuple[str, str, str, str | None], list[dict]] = {}
+    A success: held (after the lift and under the disturbance) in experiment A; the two
+    parts are reported separately too. B successes / held_after_lift: counts over the
+    B directions. Sizes: experiment A on the object at <size> percent."""
+    groups: dict[tuple[str, str, str, str | None], list[TrialRow]] = {}
     for row in rows:
-        chosen = swept_object(row["condition"], row.get("object"))
-        key = (mount_label(row), row["hand"], row["grasp"], chosen)
+        spec = row.spec
+        chosen = swept_object(spec.condition, spec.object)
+        key = (mount_label(spec), spec.hand, spec.grasp, chosen)
         groups.setdefault(key, []).append(row)
     sizes = size_conditions(rows)
     summary = []
     for (mount, hand, grasp, chosen), trials in groups.items():
-        a = next((t for t in trials if t["condition"] == "A"), {})
-        b = [t for t in trials if t["condition"].startswith("B")]
-        failures = [t for t in trials if t.get("status") != "ok" or not t.get("success")]
-        entry = {
-            "mount": mount,
-            "hand": hand,
-            "grasp": grasp,
-            "A_success": a.get("success"),
-            "A_held_after_lift": a.get("held_after_lift"),
-            "A_held_under_disturbance": a.get("held_under_disturbance"),
-            "A_position_err_mm": a.get("position_err_mm"),
-            "A_orientation_err_deg": a.get("orientation_err_deg"),
-            "A_robot_vf": a.get("robot_vf"),
-            "A_human_vf": a.get("human_vf"),
-            "A_robot_epsilon": a.get("robot_epsilon"),
-            "A_human_epsilon": a.get("human_epsilon"),
-            "A_robot_volume": a.get("robot_volume"),
-            "A_human_volume": a.get("human_volume"),
-            "A_human_held": a.get("human_held"),
-            "B_trials": len(b),
-            "B_successes": sum(bool(t.get("success")) for t in b),
-            "B_held_after_lift": sum(bool(t.get("held_after_lift")) for t in b),
-            "B_position_err_mm": _mean(t.get("position_err_mm") for t in b),
-            "B_orientation_err_deg": _mean(t.get("orientation_err_deg") for t in b),
-            "B_robot_vf_mean": _mean(t.get("robot_vf") for t in b),
-            "failures": len(failures),
-        }
-        if chosen is not None:
-            entry[OBJECT] = chosen
+        by_condition = {t.spec.condition: t for t in reversed(trials)}  # the first wins
+        sized = []
         for condition in sizes:
-            trial = next((t for t in trials if t["condition"] == condition), {})
-            entry[f"{condition}_success"] = trial.get("success")
-            entry[f"{condition}_held_after_lift"] = trial.get("held_after_lift")
-        summary.append(entry)
+            trial = by_condition.get(condition)
+            success = None if trial is None else trial.success
+            sized.append(
+                SizeHeld(condition, success, None if trial is None else trial.held_after_lift)
+            )
+        summary.append(
+            SummaryRow(
+                mount=mount,
+                hand=hand,
+                grasp=grasp,
+                object=chosen,
+                a=ExperimentA.of(by_condition.get("A")),
+                b=ExperimentB.of([t for t in trials if t.spec.condition.startswith("B")]),
+                failures=sum(not t.ok or not t.success for t in trials),
+                sizes=tuple(sized),
+            )
+        )
     return summary
 
 
@@ -133,11 +207,11 @@ def _cell(value: object, decimals: int = 1) -> str:
     return str(value)
 
 
-def _b_held(row: dict) -> str:
+def _b_held(b: ExperimentB) -> str:
     """ "n/N (m)": held in n of N B trials, held after the lift in m; "-" without B."""
-    if not row["B_trials"]:
+    if not b.trials:
         return "-"
-    return f"{row['B_successes']}/{row['B_trials']} ({row['B_held_after_lift']})"
+    return f"{b.successes}/{b.trials} ({b.held_after_lift})"
 
 
 def _volume(value: float | None) -> str:
@@ -166,20 +240,20 @@ TABLE_NOTE = (
 )
 
 
-def _size_conditions_of(summary: list[dict]) -> list[str]:
-    """The A-at-another-size conditions ("A075", ...) of the summary's columns."""
-    extra = [k for k in (summary[0] if summary else {}) if k not in (*COLUMNS, OBJECT)]
-    return [k.removesuffix("_success") for k in extra if k.endswith("_success")]
+def _size_conditions_of(summary: list[SummaryRow]) -> list[str]:
+    """The A-at-another-size conditions ("A075", ...) of the summary (every row has
+    them all)."""
+    return [size.condition for size in summary[0].sizes] if summary else []
 
 
 def summary_table(
-    summary: list[dict], experiment: str | None = None
+    summary: list[SummaryRow], experiment: str | None = None
 ) -> tuple[list[str], list[list[str]]]:
     """The summary as a table for people: (headers, rows of cells as text). Without
     `experiment`, every column, as in summary.md; with "A" or "B", the columns naming
     the row and those of that experiment, headers without its letter (the terminal
     prints one table per experiment: all columns at once are too wide for it)."""
-    objects = any(OBJECT in row for row in summary)
+    objects = any(row.object is not None for row in summary)
     sizes = _size_conditions_of(summary)
     names = ["mount", "hand", "grasp", *(["object"] if objects else [])]
     a_headers = [
@@ -199,24 +273,25 @@ def summary_table(
         ]  # fmt: skip
     rows = []
     for r in summary:
-        name_cells = [r["mount"], r["hand"], r["grasp"], *([r.get(OBJECT, "-")] if objects else [])]
+        a, b = r.a, r.b
+        name_cells = [r.mount, r.hand, r.grasp, *([r.object or "-"] if objects else [])]
         a_cells = [
-            _held(r["A_success"], r["A_held_after_lift"]),
-            _cell(r["A_position_err_mm"]),
-            _cell(r["A_orientation_err_deg"]),
-            f"{_cell(r['A_robot_vf'])}/{_cell(r['A_human_vf'])}",
-            f"{_cell(r['A_robot_epsilon'], 3)}/{_cell(r['A_human_epsilon'], 3)}",
-            f"{_volume(r['A_robot_volume'])}/{_volume(r['A_human_volume'])}",
-            _cell(r["A_human_held"]),
+            _held(a.success, a.held_after_lift),
+            _cell(a.position_err_mm),
+            _cell(a.orientation_err_deg),
+            f"{_cell(a.robot_vf)}/{_cell(a.human_vf)}",
+            f"{_cell(a.robot_epsilon, 3)}/{_cell(a.human_epsilon, 3)}",
+            f"{_volume(a.robot_volume)}/{_volume(a.human_volume)}",
+            _cell(a.human_held),
         ]
         b_cells = [
-            _b_held(r),
-            _cell(r["B_position_err_mm"]),
-            _cell(r["B_orientation_err_deg"]),
-            _cell(r["B_robot_vf_mean"]),
+            _b_held(b),
+            _cell(b.position_err_mm),
+            _cell(b.orientation_err_deg),
+            _cell(b.robot_vf_mean),
         ]
-        size_cells = [_held(r[f"{c}_success"], r[f"{c}_held_after_lift"]) for c in sizes]
-        failures = str(r["failures"])
+        size_cells = [_held(size.success, size.held_after_lift) for size in r.sizes]
+        failures = str(r.failures)
         if experiment == "A":
             rows.append([*name_cells, *a_cells, *size_cells])
         elif experiment == "B":
@@ -226,17 +301,24 @@ def summary_table(
     return headers, rows
 
 
-def write_tables(summary: list[dict], out_dir: Path) -> tuple[Path, Path]:
+def write_tables(summary: list[SummaryRow], out_dir: Path) -> tuple[Path, Path]:
     """summary.csv and summary.md in out_dir."""
     csv_path, md_path = Path(out_dir) / "summary.csv", Path(out_dir) / "summary.md"
-    objects = any(OBJECT in row for row in summary)
-    size_columns = [k for k in (summary[0] if summary else {}) if k not in (*COLUMNS, OBJECT)]
+    objects = any(row.object is not None for row in summary)
+    size_columns = [
+        f"{c}_{part}"
+        for c in _size_conditions_of(summary)
+        for part in ("success", "held_after_lift")
+    ]
     columns = [*COLUMNS[:3], OBJECT, *COLUMNS[3:]] if objects else list(COLUMNS)
     table = io.StringIO(newline="")
     writer = csv.DictWriter(table, fieldnames=[*columns, *size_columns])
     writer.writeheader()
     for row in summary:
-        writer.writerow({k: ("" if row.get(k) is None else row[k]) for k in writer.fieldnames})
+        values = row.to_csv()
+        writer.writerow(
+            {k: ("" if values.get(k) is None else values[k]) for k in writer.fieldnames}
+        )
     atomic_write(csv_path, table.getvalue())
     headers, rows = summary_table(summary)
     lines = [
@@ -250,7 +332,7 @@ def write_tables(summary: list[dict], out_dir: Path) -> tuple[Path, Path]:
     return csv_path, md_path
 
 
-def plot_summary(summary: list[dict], path: Path) -> Path:
+def plot_summary(summary: list[SummaryRow], path: Path) -> Path:
     """Per-grasp bars, both hands: position and orientation error of the virtual fingers
     (A beside B), and the Ferrari-Canny epsilon of experiment A, robot bars beside the
     human reference's (a black tick per grasp: the same object for every hand)."""
@@ -260,20 +342,20 @@ def plot_summary(summary: list[dict], path: Path) -> Path:
     import matplotlib.pyplot as plt
 
     grasps = list(dict.fromkeys(_group(r) for r in summary))
-    hands = list(dict.fromkeys((r["mount"], r["hand"]) for r in summary))
-    by_key = {(r["mount"], r["hand"], _group(r)): r for r in summary}
+    hands = list(dict.fromkeys((r.mount, r.hand) for r in summary))
+    by_key = {(r.mount, r.hand, _group(r)): r for r in summary}
     x = np.arange(len(grasps))
     fig, axes = plt.subplots(3, 1, figsize=(10, 10), sharex=True)
     # One colour per hand and mount in every panel; B hatched, and left out when no B ran.
     colour = {h: f"C{i % 10}" for i, h in enumerate(hands)}
-    conditions = ("A", "B") if any(r["B_trials"] for r in summary) else ("A",)
+    conditions = ("A", "B") if any(r.b.trials for r in summary) else ("A",)
     series = [(h, c) for h in hands for c in conditions]
-    for ax, metric, label in (
-        (axes[0], "position_err_mm", "position error [mm]"),
-        (axes[1], "orientation_err_deg", "orientation error [deg]"),
+    for ax, error, label in (
+        (axes[0], _position_err_mm, "position error [mm]"),
+        (axes[1], _orientation_err_deg, "orientation error [deg]"),
     ):
         for i, ((mount, hand), condition) in enumerate(series):
-            values = [by_key.get((mount, hand, g), {}).get(f"{condition}_{metric}") for g in grasps]
+            values = [error(by_key.get((mount, hand, g)), condition) for g in grasps]
             _bars(
                 ax,
                 x,
@@ -288,9 +370,9 @@ def plot_summary(summary: list[dict], path: Path) -> Path:
     axes[0].legend(ncols=min(4, len(series)), fontsize="small")
     ax = axes[2]
     for i, (mount, hand) in enumerate(hands):
-        values = [by_key.get((mount, hand, g), {}).get("A_robot_epsilon") for g in grasps]
+        values = [_robot_epsilon(by_key.get((mount, hand, g))) for g in grasps]
         _bars(ax, x, i, len(hands), values, f"{hand} ({mount})", colour[mount, hand], False)
-    human = [next((r["A_human_epsilon"] for r in summary if _group(r) == g), None) for g in grasps]
+    human = [next((r.a.human_epsilon for r in summary if _group(r) == g), None) for g in grasps]
     ax.hlines(
         [v if v is not None else np.nan for v in human],
         x - 0.45,
@@ -315,10 +397,27 @@ def plot_summary(summary: list[dict], path: Path) -> Path:
     return path
 
 
-def _group(row: dict) -> str:
+def _group(row: SummaryRow) -> str:
     """A bar group of the figure: the grasp, or in a sweep over objects the object and
     the grasp."""
-    return f"{row[OBJECT]}\n{row['grasp']}" if OBJECT in row else row["grasp"]
+    return row.grasp if row.object is None else f"{row.object}\n{row.grasp}"
+
+
+def _position_err_mm(row: SummaryRow | None, condition: str) -> float | None:
+    """The figure's bar: experiment A's position error, or B's mean (None: no row)."""
+    if row is None:
+        return None
+    return row.a.position_err_mm if condition == "A" else row.b.position_err_mm
+
+
+def _orientation_err_deg(row: SummaryRow | None, condition: str) -> float | None:
+    if row is None:
+        return None
+    return row.a.orientation_err_deg if condition == "A" else row.b.orientation_err_deg
+
+
+def _robot_epsilon(row: SummaryRow | None) -> float | None:
+    return None if row is None else row.a.robot_epsilon
 
 
 def _bars(

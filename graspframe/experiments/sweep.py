@@ -25,8 +25,10 @@ from graspframe.errors import InputError, OutputError
 from graspframe.experiments.trials import (
     CONDITION_A,
     TRIAL_TIME_LIMIT,
+    TrialRow,
     TrialSpec,
     experiment_b_errors,
+    failed_row,
     run_trial_isolated,
 )
 from graspframe.experiments.workers import run_in_workers
@@ -184,27 +186,26 @@ def size_condition(size: int) -> str:
     return f"{CONDITION_A}{size:03d}"
 
 
-def load_finished(path: Path) -> dict[str, dict]:
+def load_finished(path: Path) -> dict[str, TrialRow]:
     """trial_id -> row of every complete line of a trials file."""
-    finished: dict[str, dict] = {}
+    finished: dict[str, TrialRow] = {}
     if not path.is_file():
         return finished
     for line in path.read_text().splitlines():
         try:
-            row = json.loads(line)
-        except json.JSONDecodeError:
-            continue  # a line cut short by a kill: that trial runs again
-        if isinstance(row, dict) and "trial_id" in row:
-            finished[row["trial_id"]] = row
+            row = TrialRow.from_json(json.loads(line))
+        except (json.JSONDecodeError, KeyError, TypeError, ValueError, AttributeError):
+            continue  # a line cut short by a kill, or not a row: that trial runs again
+        finished[row.trial_id] = row
     return finished
 
 
-def _append(path: Path, row: dict) -> None:
+def _append(path: Path, row: TrialRow) -> None:
     # A kill can leave a last line without its newline: start on a fresh line then.
     cut_short = path.is_file() and path.stat().st_size > 0 and not _ends_with_newline(path)
     try:
         with path.open("a") as stream:
-            stream.write(("\n" if cut_short else "") + json.dumps(row) + "\n")
+            stream.write(("\n" if cut_short else "") + json.dumps(row.to_json()) + "\n")
             stream.flush()
             os.fsync(stream.fileno())
     except OSError as error:
@@ -217,11 +218,11 @@ def _ends_with_newline(path: Path) -> bool:
         return stream.read(1) == b"\n"
 
 
-def _run_local(todo: list[TrialSpec], config: SweepConfig) -> Generator[dict, None, None]:
+def _run_local(todo: list[TrialSpec], config: SweepConfig) -> Generator[TrialRow, None, None]:
     return run_in_workers(todo, config.workers, config.time_limit)
 
 
-def _run_dask(todo: list[TrialSpec], config: SweepConfig) -> Generator[dict, None, None]:
+def _run_dask(todo: list[TrialSpec], config: SweepConfig) -> Generator[TrialRow, None, None]:
     try:
         import dask
         from distributed import Client, LocalCluster
@@ -250,12 +251,7 @@ def _run_dask(todo: list[TrialSpec], config: SweepConfig) -> Generator[dict, Non
                 try:
                     yield future.result()
                 except Exception as exc:  # the worker itself was lost
-                    spec = spec_of[future]
-                    yield {
-                        "trial_id": spec.trial_id,
-                        "status": "failed",
-                        "error": f"{type(exc).__name__}: {exc}",
-                    }
+                    yield failed_row(spec_of[future], f"{type(exc).__name__}: {exc}", None)
         finally:
             client.close()
             if cluster is not None:
@@ -263,8 +259,8 @@ def _run_dask(todo: list[TrialSpec], config: SweepConfig) -> Generator[dict, Non
 
 
 def run_sweep(
-    config: SweepConfig, on_trial: Callable[[dict, int, int], None] | None = None
-) -> list[dict]:
+    config: SweepConfig, on_trial: Callable[[TrialRow, int, int], None] | None = None
+) -> list[TrialRow]:
     """Run every trial not yet in the trials file; returns all rows in plan order.
 
     on_trial(row, done, total) is called after each finished trial (progress)."""
@@ -282,7 +278,7 @@ def run_sweep(
     with closing(runner(todo, config)) as rows:
         for row in rows:
             _append(trials_path, row)
-            finished[row["trial_id"]] = row
+            finished[row.trial_id] = row
             done += 1
             if on_trial is not None:
                 on_trial(row, done, len(specs))

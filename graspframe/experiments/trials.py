@@ -12,8 +12,10 @@ from __future__ import annotations
 import math
 import multiprocessing
 import time
-from dataclasses import asdict, dataclass
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, fields
 from multiprocessing.connection import Connection
+from typing import Any
 
 from graspframe.defaults import DEFAULT_ARM, MOUNT_ARM, STRATEGY_METHOD
 from graspframe.grasps import HumanGrasp
@@ -75,7 +77,99 @@ def experiment_b_errors(rho: float, directions: int) -> list[tuple[str, tuple[fl
     return errors
 
 
-def run_trial(spec: TrialSpec) -> dict:
+STATUS_OK = "ok"
+STATUS_FAILED = "failed"
+
+
+@dataclass(frozen=True)
+class TrialRow:
+    """What one trial gave: its spec, "ok" with the numbers the summary needs or
+    "failed" with the error, and its wall time [s] (None: unknown, a lost Dask worker).
+
+    The numbers (None for a failed trial): result_path: the run's result.json; success,
+    held_after_lift, held_under_disturbance, failure_reason, touching_fingers,
+    corrections, palm_contact: the grasp (result.json's outcome); position_err_mm,
+    orientation_err_deg, robot_vf, human_vf, score_error: the virtual-finger score;
+    robot_epsilon, human_epsilon, robot_volume, human_volume: Ferrari-Canny L1 quality
+    and wrench space volume; human_held: the human reference's held test;
+    limit_excess_deg, limit_violations: the joints past their model limits.
+
+    One line of trials.jsonl is `to_json()`: "trial_id", the spec's fields, "status",
+    the numbers (ok) or "error" (failed), "wall_time"; `from_json` reads it back.
+    """
+
+    spec: TrialSpec
+    status: str
+    error: str | None = None
+    result_path: str | None = None
+    success: bool | None = None
+    held_after_lift: bool | None = None
+    held_under_disturbance: bool | None = None
+    failure_reason: str | None = None
+    touching_fingers: tuple[str, ...] | None = None
+    corrections: int | None = None
+    palm_contact: bool | None = None
+    position_err_mm: float | None = None
+    orientation_err_deg: float | None = None
+    robot_vf: int | None = None
+    human_vf: int | None = None
+    score_error: str | None = None
+    robot_epsilon: float | None = None
+    human_epsilon: float | None = None
+    robot_volume: float | None = None
+    human_volume: float | None = None
+    human_held: bool | None = None
+    limit_excess_deg: float | None = None
+    limit_violations: tuple[str, ...] | None = None
+    wall_time: float | None = None
+
+    @property
+    def trial_id(self) -> str:
+        return self.spec.trial_id
+
+    @property
+    def ok(self) -> bool:
+        return self.status == STATUS_OK
+
+    def to_json(self) -> dict[str, Any]:
+        """The trials.jsonl line's values."""
+        data: dict[str, Any] = {"trial_id": self.trial_id, **asdict(self.spec)}
+        data["status"] = self.status
+        if self.ok:
+            for name in _NUMBERS:
+                value = getattr(self, name)
+                data[name] = list(value) if isinstance(value, tuple) else value
+        else:
+            data["error"] = self.error
+        data["wall_time"] = self.wall_time
+        return data
+
+    @classmethod
+    def from_json(cls, data: Mapping[str, Any]) -> TrialRow:
+        """The row of a trials.jsonl line (KeyError, TypeError or ValueError when it is
+        not one); a spec field missing from an older line takes its default."""
+        spec_values = {f.name: data[f.name] for f in fields(TrialSpec) if f.name in data}
+        spec_values["object_error"] = tuple(spec_values["object_error"])
+        numbers: dict[str, Any] = {}
+        for name in _NUMBERS:
+            value = data.get(name)
+            numbers[name] = tuple(value) if isinstance(value, list) else value
+        return cls(
+            spec=TrialSpec(**spec_values),
+            status=str(data["status"]),
+            error=data.get("error"),
+            wall_time=data.get("wall_time"),
+            **numbers,
+        )
+
+
+# The numbers of a trial that ran, in the order of its trials.jsonl line.
+_NUMBERS = tuple(
+    f.name for f in fields(TrialRow) if f.name not in ("spec", "status", "error", "wall_time")
+)
+
+
+def run_trial(spec: TrialSpec) -> TrialRow:
     """Run the grasp of `spec` in this process; the row of numbers for the summary."""
     from graspframe.run_request import RunRequest
     from graspframe.runner import run_grasp
@@ -94,30 +188,28 @@ def run_trial(spec: TrialSpec) -> dict:
         strategy=spec.strategy,
         camera_noise=spec.camera_noise,
     )
-    row = {"trial_id": spec.trial_id, **asdict(spec)}
     try:
         result = run_grasp(request)
     except Exception as exc:
-        row.update(status="failed", error=f"{type(exc).__name__}: {exc}")
-        row["wall_time"] = time.perf_counter() - started
-        return row
+        return failed_row(spec, f"{type(exc).__name__}: {exc}", time.perf_counter() - started)
     outcome, score = result.outcome, result.score
     if outcome is None:  # run_grasp either raises or executes the grasp
         raise RuntimeError(f"run {result.run_id} ended without executing the grasp")
     assert result.execution is not None  # an outcome comes with its execution
     joint_limits = result.execution.joint_limits
     comparison = None if score is None else score.comparison
-    robot_quality = {} if score is None else dict(score.quality_robot.values or {})
-    human_quality = {} if score is None else dict(score.quality_human.values or {})
+    robot_quality = None if score is None else score.quality_robot.measured
+    human_quality = None if score is None else score.quality_human.measured
     human_held = None if score is None or score.human_held is None else score.human_held.held
-    row.update(
-        status="ok",
+    return TrialRow(
+        spec=spec,
+        status=STATUS_OK,
         result_path=str(result.result_path),
         success=outcome.success,
         held_after_lift=outcome.held_after_lift,
         held_under_disturbance=outcome.held_under_disturbance,
         failure_reason=outcome.failure_reason,
-        touching_fingers=outcome.touching_fingers,
+        touching_fingers=tuple(outcome.touching_fingers),
         corrections=outcome.corrections,
         palm_contact=outcome.palm_contact,
         position_err_mm=None if comparison is None else comparison.position_err_mm,
@@ -125,16 +217,15 @@ def run_trial(spec: TrialSpec) -> dict:
         robot_vf=None if comparison is None else comparison.robot_count,
         human_vf=None if comparison is None else comparison.human_count,
         score_error=None if score is None else score.error,
-        robot_epsilon=robot_quality.get("epsilon_l1"),
-        human_epsilon=human_quality.get("epsilon_l1"),
-        robot_volume=robot_quality.get("volume_l1"),
-        human_volume=human_quality.get("volume_l1"),
+        robot_epsilon=None if robot_quality is None else robot_quality.epsilon_l1,
+        human_epsilon=None if human_quality is None else human_quality.epsilon_l1,
+        robot_volume=None if robot_quality is None else robot_quality.volume_l1,
+        human_volume=None if human_quality is None else human_quality.volume_l1,
         human_held=human_held,
         limit_excess_deg=joint_limits.largest_excess_deg,
-        limit_violations=[e.joint for e in joint_limits.violations],
+        limit_violations=tuple(e.joint for e in joint_limits.violations),
         wall_time=time.perf_counter() - started,
     )
-    return row
 
 
 def _child(spec: TrialSpec, connection: Connection) -> None:
@@ -142,7 +233,7 @@ def _child(spec: TrialSpec, connection: Connection) -> None:
     connection.close()
 
 
-def run_trial_isolated(spec: TrialSpec, time_limit: float = TRIAL_TIME_LIMIT) -> dict:
+def run_trial_isolated(spec: TrialSpec, time_limit: float = TRIAL_TIME_LIMIT) -> TrialRow:
     """`run_trial` in a fresh process; a crash or a time-out gives a failed row."""
     context = multiprocessing.get_context("spawn")
     receiver, sender = context.Pipe(duplex=False)
@@ -150,7 +241,7 @@ def run_trial_isolated(spec: TrialSpec, time_limit: float = TRIAL_TIME_LIMIT) ->
     started = time.perf_counter()
     process.start()
     sender.close()
-    row = None
+    row: TrialRow | None = None
     if receiver.poll(time_limit):
         try:
             row = receiver.recv()
@@ -177,12 +268,6 @@ def died_error(exit_code: int | None) -> str:
     return f"the trial process died (exit code {exit_code})"
 
 
-def failed_row(spec: TrialSpec, error: str, wall_time: float) -> dict:
-    """The row of a trial that gave no row of its own; wall_time [s]."""
-    return {
-        "trial_id": spec.trial_id,
-        **asdict(spec),
-        "status": "failed",
-        "error": error,
-        "wall_time": wall_time,
-    }
+def failed_row(spec: TrialSpec, error: str, wall_time: float | None) -> TrialRow:
+    """The row of a failed trial; wall_time [s]."""
+    return TrialRow(spec, STATUS_FAILED, error=error, wall_time=wall_time)

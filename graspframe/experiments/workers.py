@@ -28,6 +28,7 @@ from multiprocessing.connection import Connection, wait
 from multiprocessing.context import SpawnContext
 
 from graspframe.experiments.trials import (
+    TrialRow,
     TrialSpec,
     died_error,
     failed_row,
@@ -42,7 +43,7 @@ READY = "ready"  # a worker's first message: its imports are done, it takes tria
 
 def run_in_workers(
     specs: Iterable[TrialSpec], workers: int, time_limit: float
-) -> Generator[dict, None, None]:
+) -> Generator[TrialRow, None, None]:
     """Run every trial in up to `workers` worker processes; yields one row per trial
     in the order they finish. time_limit: [s] per trial, from when its worker starts it."""
     context = multiprocessing.get_context("spawn")
@@ -96,7 +97,7 @@ class _Worker:
         with suppress(OSError):  # it just died: `check` reports the trial as failed
             self.connection.send(spec)
 
-    def check(self, time_limit: float) -> dict | None:
+    def check(self, time_limit: float) -> TrialRow | None:
         """The row of its trial if it has one now: its own, or a failed row when the
         worker died or ran over time (then killed); None while the trial runs."""
         if self.connection.poll():
@@ -138,7 +139,7 @@ class _Worker:
         self.process.join()
         return self.process.exitcode
 
-    def _failed(self, error: str) -> dict:
+    def _failed(self, error: str) -> TrialRow:
         return failed_row(self.spec, error, time.perf_counter() - self.since)
 
 

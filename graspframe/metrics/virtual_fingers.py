@@ -38,6 +38,7 @@ from graspframe.metrics.vectors import (
     checked_unit_vectors,
     checked_vectors,
 )
+from graspframe.results import jsonable
 
 MIN_MEAN_NORMAL = 1e-6
 """Length of the mean of unit normals below which a virtual finger has no orientation."""
@@ -73,15 +74,6 @@ class VirtualFinger:
         object.__setattr__(self, "members", members)
         object.__setattr__(self, "position", position)
         object.__setattr__(self, "normal", normal)
-
-    def to_dict(self) -> dict:
-        return {
-            "members": list(self.members),
-            "position": [float(v) for v in self.position],
-            "normal": [float(v) for v in self.normal],
-            "contact_count": self.contact_count,
-            "cohesive_index": self.cohesive_index,
-        }
 
 
 def virtual_finger(fingers: Sequence[RealFingerContacts]) -> VirtualFinger:
@@ -142,7 +134,7 @@ class VirtualFingerGrasp:
     def to_dict(self) -> dict:
         return {
             "c_eff": self.c_eff,
-            "virtual_fingers": [vf.to_dict() for vf in self.virtual_fingers],
+            "virtual_fingers": [jsonable(vf) for vf in self.virtual_fingers],
             "ignored_real_fingers": list(self.ignored_real_fingers),
         }
 

@@ -87,6 +87,11 @@ class LimitExcess:
     def unit(self) -> str:
         return "mm" if self.limit.prismatic else "deg"
 
+    @property
+    def excess_shown(self) -> float:
+        """The excess in `unit`: [deg], or [mm] for a prismatic joint."""
+        return self._shown(self.excess)
+
     def to_dict(self) -> dict[str, Any]:
         """The excess, the position and the limits in deg (mm for a prismatic joint)."""
         unit = self.unit
@@ -99,6 +104,24 @@ class LimitExcess:
             "sim_time": self.sim_time,
             "stage": self.stage,
         }
+
+    @classmethod
+    def from_json(cls, data: Mapping[str, Any]) -> LimitExcess:
+        """The excess from its JSON values (graspframe.results.jsonable of one: every
+        field, in [rad] and [m]), as a cached human reference keeps it."""
+        limit = data["limit"]
+        return cls(
+            JointLimit(
+                str(limit["joint"]),
+                float(limit["lower"]),
+                float(limit["upper"]),
+                bool(limit["prismatic"]),
+            ),
+            float(data["excess"]),
+            float(data["position"]),
+            float(data["sim_time"]),
+            str(data["stage"]),
+        )
 
     def describe(self) -> str:
         """One line, e.g. "hh_thumb_ip at -133.0 deg, 113.0 deg past its limits

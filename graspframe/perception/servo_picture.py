@@ -12,14 +12,18 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from graspframe.files import atomic_output
 from graspframe.hal.depth_camera import DepthImage
-from graspframe.perception.localise import ObjectFit, ObjectModel
+from graspframe.perception.localise import ObjectModel
 from graspframe.transforms import inv_T
+
+if TYPE_CHECKING:  # the servo strategy draws its steps with this module
+    from graspframe.strategy.servo import ServoStep
 
 PANEL_INCHES = 3.4
 MAX_COLUMNS = 3
@@ -34,12 +38,13 @@ def _pixels(image: DepthImage, p_world: ArrayLike) -> np.ndarray:
     return np.stack([c.fx * p[:, 0] / p[:, 2] + c.cx, c.fy * p[:, 1] / p[:, 2] + c.cy], axis=1)
 
 
-def _title(record: dict, fit: ObjectFit) -> str:
-    moved = np.hypot(*record["correction_mm"])
-    head = f"{record['stage']}, step {record['step']}"
+def _title(step: ServoStep) -> str:
+    fit = step.fit
+    moved = np.hypot(*step.correction_mm)
+    head = f"{step.stage}, step {step.step}"
     if not fit.accepted:
         return f"{head}: fit refused\n{fit.reason}"
-    what = "path shifted" if record["stage"] == "start" else "hand moved"  # start: no move yet
+    what = "path shifted" if step.stage == "start" else "hand moved"  # start: no move yet
     action = f"{what} {moved:.1f} mm" if moved > 0 else "within tolerance: no move"
     quality = (
         f"{fit.points} points, {100 * fit.inlier_fraction:.0f} % on the model, "
@@ -49,9 +54,9 @@ def _title(record: dict, fit: ObjectFit) -> str:
 
 
 def draw_servo_picture(
-    steps: Sequence[tuple[DepthImage, ObjectFit, dict]], model: ObjectModel, title: str, path: Path
+    steps: Sequence[tuple[DepthImage, ServoStep]], model: ObjectModel, title: str, path: Path
 ) -> Path:
-    """Draw the measurements `steps` (image, fit, its execute.servo record) to `path`."""
+    """Draw the measurements `steps` (the depth image, the step with its fit) to `path`."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -65,7 +70,8 @@ def draw_servo_picture(
     )  # fmt: skip
     for ax in axes.ravel()[len(steps) :]:
         ax.axis("off")
-    for ax, (image, fit, record) in zip(axes.ravel(), steps, strict=False):
+    for ax, (image, step) in zip(axes.ravel(), steps, strict=False):
+        fit = step.fit
         depth = np.ma.masked_invalid(image.depth_m)
         ax.imshow(depth, cmap="viridis_r")
         ax.set_facecolor("white")
@@ -85,7 +91,7 @@ def draw_servo_picture(
         high = np.clip(marks.max(axis=0) + CROP_PX, 0, (c.width, c.height))
         ax.set_xlim(low[0], high[0])
         ax.set_ylim(high[1], low[1])
-        ax.set_title(_title(record, fit), fontsize=8)
+        ax.set_title(_title(step), fontsize=8)
         ax.set_xticks([])
         ax.set_yticks([])
     legend = (

@@ -45,11 +45,12 @@ Emit = Callable[..., None]
 
 @dataclass(frozen=True)
 class Grip:
-    """How a policy brought the hand to the hold: the goal corrections it made, whether
-    the palm touched the object, and the palm goals it tried [m] (world frame)."""
+    """How a policy brought the hand to the hold: whether the palm touched the object,
+    the goal corrections it made, and the palm goals it tried [m] (world frame).
+    (result.json's outcome lists the fields in this order.)"""
 
-    corrections: int = 0
     palm_contact: bool = False
+    corrections: int = 0
     goals: tuple[tuple[float, float, float], ...] = ()
 
 
@@ -110,13 +111,24 @@ class GraspPolicy(Protocol):
 @dataclass(frozen=True)
 class GraspOutcome:
     """What happened: contacts at the hold (world frame), the object's pose then, how the
-    policy got there, and the held test's verdict (None when the grasp was aborted)."""
+    policy got there, and the held test's verdict (None when the grasp was aborted:
+    `aborted` says why, and lift_height_requested [m] is the lift the test would have
+    made)."""
 
     contacts: list[Contact]
     T_world_object_at_hold: NDArray[np.float64]
     grip: Grip
     held: HeldVerdict | None
     aborted: str | None = None
+    lift_height_requested: float = held_test.LIFT_HEIGHT
+
+    @property
+    def verdict(self) -> HeldVerdict:
+        """The held test's verdict; for an aborted grasp, the verdict of a test that did
+        not run (not held, nothing measured, the requested lift height)."""
+        if self.held is not None:
+            return self.held
+        return HeldVerdict(False, None, None, lift_height=self.lift_height_requested)
 
     @property
     def touching_fingers(self) -> list[str]:
@@ -136,35 +148,35 @@ class GraspOutcome:
 
     @property
     def held_after_lift(self) -> bool:
-        return self.held is not None and self.held.after_lift
+        return self.verdict.after_lift
 
     @property
     def held_under_disturbance(self) -> bool | None:
-        return None if self.held is None else self.held.under_disturbance
+        return self.verdict.under_disturbance
 
     @property
     def object_rise(self) -> float:
-        return 0.0 if self.held is None else self.held.object_rise
+        return self.verdict.object_rise
 
     @property
     def lift_height(self) -> float:
-        return held_test.LIFT_HEIGHT if self.held is None else self.held.lift_height
+        return self.verdict.lift_height
 
     @property
     def lift_motion(self) -> InHandMotion | None:
-        return None if self.held is None else self.held.lift_motion
+        return self.verdict.lift_motion
 
     @property
     def fingers_after_lift(self) -> list[str]:
-        return [] if self.held is None else list(self.held.fingers_after_lift)
+        return list(self.verdict.fingers_after_lift)
 
     @property
     def disturbance(self) -> Mapping[str, InHandMotion]:
-        return {} if self.held is None else self.held.disturbance
+        return self.verdict.disturbance
 
     @property
     def disturbance_skipped(self) -> str | None:
-        return None if self.held is None else self.held.disturbance_skipped
+        return self.verdict.disturbance_skipped
 
     @property
     def success(self) -> bool:
@@ -283,6 +295,7 @@ def run_policy(
             grip=Grip(),
             held=None,
             aborted=f"the arm cannot carry out the plan: {exc}",
+            lift_height_requested=held.lift_height,
         )
     contacts = world.hand.contacts()
     T_world_object_at_hold = probe.T_world_object()

@@ -123,7 +123,7 @@ class _Strategy:
         self._close(preshape.closed_q)
         self.motion.idle(round(self.p.hold_time / self.world.timestep))
         goals_world = tuple((float(x), float(y), float(z)) for x, y, z in goals)
-        return Grip(corrections, palm_contact, goals_world)
+        return Grip(palm_contact, corrections, goals_world)
 
     # -- stages -------------------------------------------------------------------------
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -107,9 +107,10 @@ class HeldVerdict:
     after_lift: the lift held; under_disturbance: the pushes held (None when they did not
     run: the lift failed, they were not asked for, or the backend cannot push, which
     `disturbance_skipped` says); failure: why it did not hold, in words (None: it held).
-    object_rise [m], lift_height [m], lift_motion: the lift; fingers_after_lift: the real
-    fingers touching after it; disturbance: per direction ("+x", ...), the object's
-    largest motion in the hand.
+    object_rise [m], lift_height [m], lift_motion: the lift; disturbance: per direction
+    ("+x", ...), the object's largest motion in the hand; fingers_after_lift: the real
+    fingers touching after the lift. (result.json's outcome lists the fields in this
+    order.)
     """
 
     after_lift: bool
@@ -118,15 +119,17 @@ class HeldVerdict:
     object_rise: float = 0.0
     lift_height: float = LIFT_HEIGHT
     lift_motion: InHandMotion | None = None
-    fingers_after_lift: tuple[str, ...] = ()
     disturbance: Mapping[str, InHandMotion] = field(default_factory=dict)
     disturbance_skipped: str | None = None
+    fingers_after_lift: tuple[str, ...] = ()
 
     @property
     def held(self) -> bool:
         return self.failure is None and self.after_lift
 
-    def to_dict(self) -> dict:
+    def result_json(self) -> dict[str, Any]:
+        """result.json's form of the verdict (a human reference's "human_held_test"):
+        whether it held, and why not, without the measurements."""
         return {
             "held": self.held,
             "held_after_lift": self.after_lift,
@@ -135,8 +138,27 @@ class HeldVerdict:
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> HeldVerdict:
-        return cls(bool(data["held_after_lift"]), data["held_under_disturbance"], data["failure"])
+    def from_json(cls, data: Mapping[str, Any]) -> HeldVerdict:
+        """The verdict from its JSON values (graspframe.results.jsonable of one: every
+        field, motions in [m] and [deg]), as a cached human reference keeps it."""
+        pushes = data["disturbance"]
+        return cls(
+            after_lift=bool(data["after_lift"]),
+            under_disturbance=data["under_disturbance"],
+            failure=data["failure"],
+            object_rise=float(data["object_rise"]),
+            lift_height=float(data["lift_height"]),
+            lift_motion=_motion_from_json(data["lift_motion"]),
+            fingers_after_lift=tuple(data["fingers_after_lift"]),
+            disturbance={
+                d: InHandMotion(float(m["shift"]), float(m["turn_deg"])) for d, m in pushes.items()
+            },
+            disturbance_skipped=data["disturbance_skipped"],
+        )
+
+
+def _motion_from_json(data: Mapping[str, Any] | None) -> InHandMotion | None:
+    return None if data is None else InHandMotion(float(data["shift"]), float(data["turn_deg"]))
 
 
 @dataclass(frozen=True)

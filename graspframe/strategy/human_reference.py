@@ -44,11 +44,11 @@ from graspframe.floating_base import mount_floating
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.drivers import Backend, World, WorldConfig
-from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
+from graspframe.motion.joint_limits import LimitExcess
 from graspframe.results import jsonable, read_json_file
-from graspframe.snapshots import PICTURE_STYLE, Snapshot, draw_snapshots, scene_of_robot
+from graspframe.snapshots import PICTURE_STYLE, draw_grasp
 from graspframe.strategy.execution import ExecutionLog, Grip, execute
 from graspframe.strategy.executor import ExecutorParams
 from graspframe.strategy.held_test import HeldTest, HeldVerdict
@@ -60,6 +60,9 @@ CACHE_KIND = "human_references"
 PICTURE = "picture.png"  # the picture of the simulated grasp, in its cache entry
 # Part of the cache key: bump it when the way references are simulated changes.
 PROCEDURE_VERSION = 5
+# Part of the cache key: bump it when what an entry stores changes (2: every field of
+# the held verdict and of the joint-limit excesses).
+STORED_VALUES_VERSION = 2
 CLOSING_SETTLE_TIME = 1.0  # [s] after the slowest joint could have reached its closed target
 OPENING_SETTLE_TIME = 0.2  # [s] after the slowest joint could have reached its open target
 # The hand takes its open posture this far back along its palm normal, then approaches.
@@ -86,13 +89,15 @@ class HumanReference:
     source: str
     held: HeldVerdict | None = None
     picture: Path | None = None
-    joint_limit_violations: tuple[dict, ...] = ()
+    joint_limit_violations: tuple[LimitExcess, ...] = ()
 
     @property
     def touching_fingers(self) -> list[str]:
         return sorted({c.real_finger for c in self.contacts})
 
-    def to_json(self) -> dict:
+    def to_json(self) -> dict[str, object]:
+        """The file format; a simulated reference adds its held verdict and the joints
+        past their limits, every field of each (its cache entry reads them back)."""
         data: dict[str, object] = {
             "format": FORMAT,
             "grasp": self.grasp.value,
@@ -101,9 +106,9 @@ class HumanReference:
             "contacts": [c.to_dict() for c in self.contacts],
         }
         if self.held is not None:
-            data["held_test"] = self.held.to_dict()
+            data["held_test"] = jsonable(self.held)
         if self.joint_limit_violations:
-            data["joint_limit_violations"] = list(self.joint_limit_violations)
+            data["joint_limit_violations"] = jsonable(self.joint_limit_violations)
         return data
 
 
@@ -167,9 +172,9 @@ def _cached_reference(entry: CacheEntry, obj: ObjectDescription) -> HumanReferen
         obj.name,
         _contacts_from_json(values, entry.folder),
         "cache",
-        HeldVerdict.from_dict(values["held_test"]),
+        HeldVerdict.from_json(values["held_test"]),
         entry.files.get(PICTURE),
-        tuple(values.get("joint_limit_violations", ())),
+        tuple(LimitExcess.from_json(e) for e in values.get("joint_limit_violations", ())),
     )
 
 
@@ -228,31 +233,18 @@ def simulate_human_grasp(
     )
     execution = execute(backend, config, HumanClosing(human, posture, z_palm), held or HeldTest())
     outcome = execution.outcome
-    verdict = outcome.held or HeldVerdict(False, None, outcome.failure_reason)
+    # The robot's rule: held, and touched by MIN_FINGERS real fingers (the palm counts).
+    verdict = replace(outcome.verdict, failure=outcome.failure_reason)
     contacts = tuple(c.in_object_frame(outcome.T_world_object_at_hold) for c in outcome.contacts)
-    violations = tuple(e.to_dict() for e in execution.joint_limits.violations)
+    violations = execution.joint_limits.violations
     reference = HumanReference(grasp, obj.name, contacts, "simulated", verdict, picture, violations)
     if picture is not None:
-        moments = [Snapshot.from_moment(m, robot.arm.joint_names) for m in execution.moments]
-        _draw(picture, reference, verdict, robot, config, obj, moments)
+        what = f"human {grasp.value}, {obj.name}"
+        draw_grasp(
+            picture, robot, config.T_world_arm_base, obj, config.table_height,
+            execution.moments, what, verdict.held, verdict.failure,
+        )  # fmt: skip
     return reference
-
-
-def _draw(
-    path: Path,
-    reference: HumanReference,
-    held: HeldVerdict,
-    robot: MountedRobot,
-    config: WorldConfig,
-    obj: ObjectDescription,
-    moments: list[Snapshot],
-) -> None:
-    scene = scene_of_robot(
-        robot.model, config.T_world_arm_base, config.hand, obj, config.table_height
-    )
-    verdict = "held" if held.held else f"not held: {held.failure}"
-    title = f"human {reference.grasp.value}, {reference.object_name}; {verdict}"
-    draw_snapshots(path, scene, moments, title)
 
 
 def _travel_time(
@@ -276,7 +268,8 @@ def _cache_key(
     backend: Backend,
     held: HeldTest,
 ) -> str:
-    digest = hashlib.sha256(f"procedure {PROCEDURE_VERSION} {ENTRY_FORMAT}".encode())
+    versions = f"procedure {PROCEDURE_VERSION} {ENTRY_FORMAT} values {STORED_VALUES_VERSION}"
+    digest = hashlib.sha256(versions.encode())
     digest.update(f"backend {backend.name}".encode())
     # The cached entry keeps its picture: a new picture style makes a new entry.
     digest.update(f"pictures {PICTURE_STYLE}".encode())

@@ -92,14 +92,6 @@ class Variant:
     via_rise: float | None = None
     mounting: str | None = None
 
-    def to_dict(self) -> dict:
-        return {
-            "yaw_deg": self.yaw_deg,
-            "raise_along_axis": self.raise_along_axis,
-            "via_rise": self.via_rise,
-            "mounting": self.mounting,
-        }
-
 
 @dataclass(frozen=True)
 class GraspPlan:
@@ -147,29 +139,6 @@ class GraspPlan:
     def pre_approach_distance(self) -> float:
         """[m] from the pre-approach pose to the goal along a."""
         return float(np.linalg.norm(self.T_world_palm_goal[:3, 3] - self.T_world_palm_pre[:3, 3]))
-
-    def to_dict(self) -> dict:
-        return {
-            "hand": self.hand,
-            "grasp": self.grasp.value,
-            "preshape": self.preshape,
-            "volar": self.volar,
-            "approach": self.approach,
-            "a_world": self.a_world.tolist(),
-            "T_object_human_palm": self.T_object_human_palm.tolist(),
-            "T_object_palm": self.T_object_palm.tolist(),
-            "p_palm_object": self.p_palm_object.tolist(),
-            "T_world_object_est": self.T_world_object_est.tolist(),
-            "T_world_palm_goal": self.T_world_palm_goal.tolist(),
-            "T_world_palm_pre": self.T_world_palm_pre.tolist(),
-            "T_world_palm_via": self.T_world_palm_via.tolist(),
-            "standoff": self.standoff,
-            "table_raise": self.table_raise,
-            "min_goal_height": self.min_goal_height,
-            "variant": self.variant.to_dict(),
-            "R_object_symmetry": self.R_object_symmetry.tolist(),
-            "volar_gap": self.volar_gap,
-        }
 
 
 def approach_direction(

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -36,6 +37,7 @@ from graspframe.strategy.executor import ExecutorParams, _Strategy
 from graspframe.strategy.planner import GraspPlan
 from graspframe.strategy.segments import approach_line, moved_pose, sideways_line
 
+STANDOFF_SKIPPED = "larger than the standoff allows"  # a step's `skipped` then
 # The head camera: 320 x 240 px at 290 px focal length (the QVGA mode of the Kinect class,
 # 580 px at 640 x 480), in the world above and beside the arm's base (at the world origin
 # on the arm mount; the hand alone works in the same scene), looking at the believed
@@ -48,6 +50,36 @@ def head_camera(p_world_target: ArrayLike) -> CameraMount:
     """The head camera looking at `p_world_target` [m] (world up: +z)."""
     T_world_camera = look_at(P_WORLD_HEAD, p_world_target, (0.0, 0.0, 1.0))
     return CameraMount(HEAD_CAMERA, T_world_camera=T_world_camera)
+
+
+@dataclass(frozen=True)
+class ServoStep:
+    """One measurement of the servo strategy.
+
+    stage: "start", "via", "pre-approach" or "standoff"; step: its number in the stage
+    (from 1); fit: the object fitted to the depth image; correction_mm: [mm] the palm's
+    move (x, y), world frame, (0, 0) for none; skipped: why a correction the fit asked
+    for was not made (None: made, or none was needed).
+    """
+
+    stage: str
+    step: int
+    fit: ObjectFit
+    correction_mm: tuple[float, float]
+    skipped: str | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        """Its execute.servo event payload, and result.json's servo step ("skipped"
+        only when set)."""
+        data: dict[str, Any] = {
+            "stage": self.stage,
+            "step": self.step,
+            "fit": self.fit.to_json(),
+            "correction_mm": list(self.correction_mm),
+        }
+        if self.skipped is not None:
+            data["skipped"] = self.skipped
+        return data
 
 
 @dataclass(frozen=True)
@@ -75,9 +107,9 @@ class ServoStrategy:
     servo: ServoParams = field(default_factory=ServoParams)
     seed: int = 0
     noise_scale: float = 1.0
-    # Filled as it runs: each step's record (as in its event), and its image and fit.
-    steps: list[dict] = field(default_factory=list)
-    images: list[tuple[DepthImage, ObjectFit, dict]] = field(default_factory=list)
+    # Filled as it runs: each step, and its depth image.
+    steps: list[ServoStep] = field(default_factory=list)
+    images: list[tuple[DepthImage, ServoStep]] = field(default_factory=list)
 
     def grasp(self, world: World, motion: ArmMotion, log: ExecutionLog) -> Grip:
         return _ServoStrategy(
@@ -113,7 +145,7 @@ class _ServoStrategy(_Strategy):
         self._close(preshape.closed_q)
         self.motion.idle(round(self.p.hold_time / self.world.timestep))
         goal = self.T_goal[:3, 3]
-        return Grip(0, palm_contact, ((float(goal[0]), float(goal[1]), float(goal[2])),))
+        return Grip(palm_contact, 0, ((float(goal[0]), float(goal[1]), float(goal[2])),))
 
     # -- the loop -----------------------------------------------------------------------
 
@@ -123,18 +155,13 @@ class _ServoStrategy(_Strategy):
             image, fit = self._measure()
             shift = np.array([*fit.shift_xy, 0.0])
             act = fit.accepted and float(np.linalg.norm(shift)) > self.owner.servo.tolerance
-            record = {
-                "stage": stage,
-                "step": step,
-                "fit": fit.to_json(),
-                "correction_mm": (1000.0 * shift[:2]).tolist() if act else [0.0, 0.0],
-            }
+            correction_mm = (1000.0 * float(shift[0]), 1000.0 * float(shift[1]))
+            record = ServoStep(stage, step, fit, correction_mm if act else (0.0, 0.0))
             if act and not move(shift):
                 act = False
-                record["correction_mm"] = [0.0, 0.0]
-                record["skipped"] = "larger than the standoff allows"
+                record = replace(record, correction_mm=(0.0, 0.0), skipped=STANDOFF_SKIPPED)
             self.owner.steps.append(record)
-            self.owner.images.append((image, fit, record))
+            self.owner.images.append((image, record))
             c = image.intrinsics
             self.emit(
                 events.EXECUTE_DEPTH_IMAGE,
@@ -152,7 +179,7 @@ class _ServoStrategy(_Strategy):
                 T_world_camera=image.T_world_camera,
                 p_world_fitted=fit.T_world_object[:3, 3],
             )
-            self.emit(events.EXECUTE_SERVO, **record)
+            self.emit(events.EXECUTE_SERVO, **record.to_json())
             if not act:
                 return
             self.T_world_object_believed[:2, 3] += shift[:2]

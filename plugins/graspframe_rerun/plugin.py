@@ -40,5 +40,5 @@ def graspframe_run_finished(run, result):
     recording = _recordings.pop(run.run_id, None)
     if recording is None:
         return None
-    recording.finish(result.status, result.error)
+    recording.finish(result.status, result.error, result.score)
     return {"recording": str(recording.path)}

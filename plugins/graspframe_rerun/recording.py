@@ -32,12 +32,14 @@ samples (link transforms, joint values, scalars) are buffered and sent in column
 (cycles.py) before each further event and at the end of the run. Hand links are coloured
 by real finger (a visual mesh keeps a tint of its material colour), arm links orange.
 The hand and the object come from the run's RunInfo; the events are those declared in
-graspframe/events.py.
+graspframe/events.py; the score (vf/, the virtual-finger errors) from the run's typed
+result at its end, logged at the time of its score.done event.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import rerun as rr
@@ -56,6 +58,9 @@ from graspframe.shapes import object_collision_meshes, object_mesh, textured_obj
 from graspframe.transforms import quat_xyzw_from_R
 from graspframe_rerun import RECORDING_FILE
 from graspframe_rerun.cycles import MotionCycles, RobotPoser
+
+if TYPE_CHECKING:  # the run's types import the whole pipeline
+    from graspframe.run_result import Score
 
 COLLISION_OVERLAY_ALPHA = 70  # [0, 255] collision shapes over a link's visual meshes
 HUMAN_VF_OFFSET = np.array([0.0, 0.25, 0.0])  # [m] human virtual fingers beside the robot's
@@ -126,6 +131,7 @@ class RunRecording:
         self._memory = self.stream.memory_recording()
         self._cycles: MotionCycles | None = None  # from world.built on
         self._sim_time_s = 0.0
+        self._score_time_s: float | None = None  # [s] of the score.done event
         self._handlers = {
             events.WORLD_BUILT.name: self._on_world_built,
             events.PLAN_DONE.name: self._on_plan_done,
@@ -307,26 +313,34 @@ class RunRecording:
                 static=True,
             )
 
-    def _on_score_done(self, data: dict) -> None:
-        self._log_contacts("vf/robot/contacts", data.get("robot_contacts_object", []), np.zeros(3))
-        self._log_contacts("vf/human/contacts", data.get("human_contacts", []), HUMAN_VF_OFFSET)
-        score = data.get("score", {})
-        for side, offset in (("robot", np.zeros(3)), ("human", HUMAN_VF_OFFSET)):
-            vfs = (score.get(side) or {}).get("virtual_fingers", [])
+    def _on_score_done(self, _data: dict) -> None:
+        # The score is drawn from the run's typed result when it finishes, at this time.
+        self._score_time_s = self._sim_time_s
+
+    def _log_score(self, score: Score) -> None:
+        """The contacts and virtual fingers of both sides (object frame, the human's
+        beside the robot's) and the virtual-finger errors."""
+        self._log_contacts("vf/robot/contacts", score.robot_contacts, np.zeros(3))
+        self._log_contacts("vf/human/contacts", score.human_contacts, HUMAN_VF_OFFSET)
+        for side, grasp, offset in (
+            ("robot", score.robot, np.zeros(3)),
+            ("human", score.human, HUMAN_VF_OFFSET),
+        ):
+            vfs = [] if grasp is None else grasp.virtual_fingers
             if vfs:
-                positions = [np.asarray(vf["position"]) + offset for vf in vfs]
-                normals = [0.03 * np.asarray(vf["normal"]) for vf in vfs]
-                labels = ["+".join(vf["members"]) for vf in vfs]
+                positions = [np.asarray(vf.position) + offset for vf in vfs]
+                normals = [0.03 * np.asarray(vf.normal) for vf in vfs]
+                labels = ["+".join(vf.members) for vf in vfs]
                 self._log(
                     f"vf/{side}/virtual_fingers",
                     rr.Arrows3D(origins=positions, vectors=normals, labels=labels),
                     static=True,
                 )
-        comparison = score.get("comparison")
-        if comparison:
-            self._log("plots/vf_position_err_mm", rr.Scalars(float(comparison["position_err_mm"])))
+        comparison = score.comparison
+        if comparison is not None:
+            self._log("plots/vf_position_err_mm", rr.Scalars(float(comparison.position_err_mm)))
             self._log(
-                "plots/vf_orientation_err_deg", rr.Scalars(float(comparison["orientation_err_deg"]))
+                "plots/vf_orientation_err_deg", rr.Scalars(float(comparison.orientation_err_deg))
             )
 
     def _on_classify_images(self, data: dict) -> None:
@@ -334,11 +348,15 @@ class RunRecording:
         for picture in data["pictures"]:
             self._log(f"vision/{picture.name}", _picture_archetype(picture), static=True)
 
-    def finish(self, status: str, error: str | None = None) -> None:
+    def finish(self, status: str, error: str | None = None, score: Score | None = None) -> None:
         """Send the cycles still buffered, log how the run ended (its status and error)
-        and write the recording file (OutputError: the path and the cause)."""
+        and its score (at the time of its score.done event), and write the recording
+        file (OutputError: the path and the cause)."""
         self._flush_cycles()
         self.text(f"run {status}: {error or ''}")
+        if score is not None:
+            self._at(self._score_time_s)
+            self._log_score(score)
         recording = self._memory.drain_as_bytes()  # before disconnecting: it ends the data
         self.stream.disconnect()
         atomic_write(self.path, recording)
