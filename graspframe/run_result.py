@@ -33,8 +33,8 @@ from graspframe.strategy.execution import Execution, GraspOutcome
 from graspframe.strategy.held_test import HeldVerdict, InHandMotion
 
 if TYPE_CHECKING:  # the runner imports this module; the servo only for its strategy
+    from graspframe.perception.servo_step import ServoStep
     from graspframe.run_request import RunRequest
-    from graspframe.strategy.servo import ServoStep
 
 RESULT_FORMAT = "graspframe.result/2"
 

@@ -15,9 +15,10 @@ from graspframe.errors import GraspframeError
 from graspframe.experiments.trials import TrialSpec
 from graspframe.grasps import HumanGrasp
 from graspframe.perception.localise import ObjectFit
+from graspframe.perception.servo_step import ServoStep
 from graspframe.run_request import RunRequest
 from graspframe.runner import run_grasp
-from graspframe.strategy.servo import STANDOFF_SKIPPED, ServoParams, ServoStep
+from graspframe.strategy.servo import STANDOFF_SKIPPED, ServoParams
 
 ERROR = (0.05, 0.0)  # [m] the object 5 cm from the belief along -x of the belief
 

@@ -23,7 +23,7 @@ from graspframe.perception.localise import ObjectModel
 from graspframe.transforms import inv_T
 
 if TYPE_CHECKING:  # the servo strategy draws its steps with this module
-    from graspframe.strategy.servo import ServoStep
+    from graspframe.perception.servo_step import ServoStep
 
 PANEL_INCHES = 3.4
 MAX_COLUMNS = 3

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -31,6 +30,7 @@ from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.perception.localise import ObjectFit, ObjectModel, fit_object
 from graspframe.perception.self_filter import RobotSelfFilter
+from graspframe.perception.servo_step import ServoStep
 from graspframe.pictures.render3d import look_at
 from graspframe.strategy.execution import ExecutionLog, Grip
 from graspframe.strategy.executor import ExecutorParams, _Strategy
@@ -50,36 +50,6 @@ def head_camera(p_world_target: ArrayLike) -> CameraMount:
     """The head camera looking at `p_world_target` [m] (world up: +z)."""
     T_world_camera = look_at(P_WORLD_HEAD, p_world_target, (0.0, 0.0, 1.0))
     return CameraMount(HEAD_CAMERA, T_world_camera=T_world_camera)
-
-
-@dataclass(frozen=True)
-class ServoStep:
-    """One measurement of the servo strategy.
-
-    stage: "start", "via", "pre-approach" or "standoff"; step: its number in the stage
-    (from 1); fit: the object fitted to the depth image; correction_mm: [mm] the palm's
-    move (x, y), world frame, (0, 0) for none; skipped: why a correction the fit asked
-    for was not made (None: made, or none was needed).
-    """
-
-    stage: str
-    step: int
-    fit: ObjectFit
-    correction_mm: tuple[float, float]
-    skipped: str | None = None
-
-    def to_json(self) -> dict[str, Any]:
-        """Its execute.servo event payload, and result.json's servo step ("skipped"
-        only when set)."""
-        data: dict[str, Any] = {
-            "stage": self.stage,
-            "step": self.step,
-            "fit": self.fit.to_json(),
-            "correction_mm": list(self.correction_mm),
-        }
-        if self.skipped is not None:
-            data["skipped"] = self.skipped
-        return data
 
 
 @dataclass(frozen=True)
