@@ -55,8 +55,8 @@ from graspframe.scoring import score_grasp
 from graspframe.snapshots import draw_grasp
 from graspframe.strategy.arm_path import CheckedPlan, choose_plan, floating_plan
 from graspframe.strategy.execution import Execution, GraspPolicy, execute
-from graspframe.strategy.executor import MethodStrategy
 from graspframe.strategy.held_test import object_probe
+from graspframe.strategy.method import MethodStrategy
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 

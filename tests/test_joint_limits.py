@@ -37,9 +37,9 @@ from graspframe.run_request import RunRequest
 from graspframe.run_result import RunResult, Score
 from graspframe.strategy.arm_path import floating_plan
 from graspframe.strategy.execution import Execution, ExecutionLog, Grip, execute
-from graspframe.strategy.executor import MethodStrategy
 from graspframe.strategy.held_test import HeldTest, HeldVerdict
 from graspframe.strategy.human_reference import HumanReference, _cached_reference
+from graspframe.strategy.method import MethodStrategy
 from graspframe.strategy.reference_poses import R_object_palm_for_design
 from graspframe.testing.grasp_checks import design_object
 from graspframe.transforms import R_from_rpy, inv_T, make_T

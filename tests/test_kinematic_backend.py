@@ -16,11 +16,11 @@ from graspframe.hal import ObjectDescription, WorldConfig
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.mounting import mount
 from graspframe.registry import default_registry
-from graspframe.strategy import executor
+from graspframe.strategy import method
 from graspframe.strategy.arm_path import choose_plan
 from graspframe.strategy.execution import ExecutionLog, GraspOutcome, run_policy
-from graspframe.strategy.executor import MethodStrategy
 from graspframe.strategy.held_test import HeldTest
+from graspframe.strategy.method import MethodStrategy
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.testing import assert_backend_contract, backend_problems
 from graspframe.testing.kinematic_backend import CONTACT_DISTANCE, KinematicBackend
@@ -205,7 +205,7 @@ def test_the_kinematic_world_is_deterministic():
 def test_the_corrections_the_executor_drives_come_from_the_segment_builder(monkeypatch):
     """The volar loop's retreat and corrected approach are built by segments.py (as the
     executor imports them): what the builder returns is what the arm follows."""
-    built_retreat, built_approach = executor.retreat_line, executor.approach_line
+    built_retreat, built_approach = method.retreat_line, method.approach_line
     followed: list[str] = []
     follow = ArmMotion.follow
 
@@ -217,8 +217,8 @@ def test_the_corrections_the_executor_drives_come_from_the_segment_builder(monke
         return lambda *a, **k: dataclasses.replace(builder(*a, **k), name=tag)
 
     monkeypatch.setattr(ArmMotion, "follow", recording_follow)
-    monkeypatch.setattr(executor, "retreat_line", tagged(built_retreat, "built retreat"))
-    monkeypatch.setattr(executor, "approach_line", tagged(built_approach, "built approach"))
+    monkeypatch.setattr(method, "retreat_line", tagged(built_retreat, "built retreat"))
+    monkeypatch.setattr(method, "approach_line", tagged(built_approach, "built approach"))
     outcome, _, _, _ = _run("barrett", G.LARGE_DIAMETER, object_error=np.array([0.0, 0.03]))
     assert outcome.corrections >= 1
     assert followed.count("built retreat") == outcome.corrections
@@ -229,7 +229,7 @@ def test_the_corrections_the_executor_drives_come_from_the_segment_builder(monke
 
 def test_a_changed_builder_changes_the_retreat_the_executor_drives(monkeypatch):
     """A retreat built 2 cm shorter by segments.py is 2 cm shorter where the arm drives it."""
-    built_retreat = executor.retreat_line
+    built_retreat = method.retreat_line
     retreats: list[float] = []
 
     def shorter(*args, **kwargs):
@@ -248,7 +248,7 @@ def test_a_changed_builder_changes_the_retreat_the_executor_drives(monkeypatch):
     error = np.array([0.0, 0.03])
     _run("barrett", G.LARGE_DIAMETER, object_error=error)
     (planned, driven), *_ = retreats
-    monkeypatch.setattr(executor, "retreat_line", shorter)
+    monkeypatch.setattr(method, "retreat_line", shorter)
     retreats.clear()
     _run("barrett", G.LARGE_DIAMETER, object_error=error)
     (planned_shorter, driven_shorter), *_ = retreats

@@ -586,8 +586,8 @@ def hand_alone_run(grasp: HumanGrasp, object_name: str | None = None):
     from graspframe.registry import default_registry
     from graspframe.strategy.arm_path import floating_plan
     from graspframe.strategy.execution import run_policy
-    from graspframe.strategy.executor import MethodStrategy
     from graspframe.strategy.held_test import HeldTest
+    from graspframe.strategy.method import MethodStrategy
     from graspframe.strategy.reference_poses import reference_placement
     from graspframe.transforms import make_T
 

@@ -21,10 +21,10 @@ from graspframe.registry import default_registry
 from graspframe.results import jsonable
 from graspframe.run_request import RunRequest
 from graspframe.runner import run_grasp
-from graspframe.strategy import executor
+from graspframe.strategy import method
 from graspframe.strategy.arm_path import choose_plan, path_problem
-from graspframe.strategy.executor import ExecutorParams
 from graspframe.strategy.hand_geometry import closing_configurations, lowest_hand_point
+from graspframe.strategy.method import ExecutorParams
 from graspframe.strategy.planner import (
     PlannerParams,
     PlanningError,
@@ -213,12 +213,12 @@ def test_the_chosen_arm_path_is_collision_free_and_refusals_say_why():
 
 def test_the_path_check_checks_the_segments_the_executor_drives(monkeypatch):
     """The executor and the path check take their segments from one builder
-    (executor.planned_path): an approach changed there, sunk 8 cm into the table, is
+    (method.planned_path): an approach changed there, sunk 8 cm into the table, is
     what the check then refuses."""
     checked, hand, obj = _barrett_large_diameter_on_kuka()
     args = (checked.plan, checked.robot, checked.T_world_base, hand, obj, 0.0)
     assert path_problem(*args) is None
-    built = executor.palm_path
+    built = method.palm_path
 
     def sunk_approach(*path_args, **path_kwargs):
         path = built(*path_args, **path_kwargs)
@@ -228,7 +228,7 @@ def test_the_path_check_checks_the_segments_the_executor_drives(monkeypatch):
             path, approach=dataclasses.replace(path.approach, T_world_palm_start=T_start)
         )
 
-    monkeypatch.setattr(executor, "palm_path", sunk_approach)
+    monkeypatch.setattr(method, "palm_path", sunk_approach)
     problem = path_problem(*args)
     assert problem is not None and "approach" in problem and "table" in problem
 

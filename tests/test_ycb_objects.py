@@ -28,8 +28,8 @@ from graspframe.motion.arm_motion import ArmMotion
 from graspframe.registry import Registry, default_registry
 from graspframe.strategy.arm_path import floating_plan
 from graspframe.strategy.execution import run_policy
-from graspframe.strategy.executor import MethodStrategy
 from graspframe.strategy.held_test import HeldTest
+from graspframe.strategy.method import MethodStrategy
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 

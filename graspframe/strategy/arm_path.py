@@ -41,8 +41,8 @@ from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.ik import IkSolver
 from graspframe.mounting import MountedRobot, mount
-from graspframe.strategy.executor import ExecutorParams, planned_path
 from graspframe.strategy.held_test import HeldTest
+from graspframe.strategy.method import ExecutorParams, planned_path
 from graspframe.strategy.path_check import Rule, SegmentChecker
 from graspframe.strategy.planner import (
     GraspPlan,

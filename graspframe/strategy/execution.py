@@ -4,7 +4,7 @@ hand-alone checks.
 `execute` builds the world from its `WorldConfig` in a backend, puts an `ArmMotion` on
 it (the arm, or the floating base of a hand alone) and runs `run_policy`: the grasp
 policy brings the hand to the hold (the robot: the method's strategy,
-graspframe/strategy/executor.py; the human reference: its open-loop closing,
+graspframe/strategy/method.py; the human reference: its open-loop closing,
 graspframe/strategy/human_reference.py), then the one held test (held_test.py) judges
 the grasp. An `ExecutionLog` goes along: observers hear every step through its
 `emit(kind, **data)` (the "execute.*" kinds of graspframe/events.py), and it keeps the

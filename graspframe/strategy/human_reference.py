@@ -50,8 +50,8 @@ from graspframe.motion.joint_limits import LimitExcess
 from graspframe.results import jsonable, read_json_file
 from graspframe.snapshots import PICTURE_STYLE, draw_grasp
 from graspframe.strategy.execution import ExecutionLog, Grip, execute
-from graspframe.strategy.executor import ExecutorParams
 from graspframe.strategy.held_test import HeldTest, HeldVerdict
+from graspframe.strategy.method import ExecutorParams
 from graspframe.strategy.reference_poses import reference_placement
 from graspframe.transforms import make_T
 

@@ -1,4 +1,4 @@
-"""The servo strategy: the method's strategy (executor.py) with the object's position
+"""The servo strategy: the method's strategy (method.py) with the object's position
 measured by a depth camera and the hand moved by the correction before it closes.
 
 For the grasps the method leaves without feedback (the non-volar ones): before the arm
@@ -33,7 +33,7 @@ from graspframe.perception.self_filter import RobotSelfFilter
 from graspframe.perception.servo_step import ServoStep
 from graspframe.pictures.render3d import look_at
 from graspframe.strategy.execution import ExecutionLog, Grip
-from graspframe.strategy.executor import ExecutorParams, _Strategy
+from graspframe.strategy.method import ExecutorParams, _Strategy
 from graspframe.strategy.planner import GraspPlan
 from graspframe.strategy.segments import approach_line, moved_pose, sideways_line
 

@@ -190,8 +190,8 @@ def _hand_alone(
     `hand_alone_grasp`."""
     from graspframe.strategy.arm_path import floating_plan
     from graspframe.strategy.execution import execute
-    from graspframe.strategy.executor import MethodStrategy
     from graspframe.strategy.held_test import HeldTest
+    from graspframe.strategy.method import MethodStrategy
 
     preshape = hand.preshape_for(grasp)
     if preshape.design_object is None:
