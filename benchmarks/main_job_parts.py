@@ -62,10 +62,11 @@ def observed(function):
 import graspframe.run_request as run_request
 run_request.resolve = timed("inputs", run_request.resolve)
 runner.write_json = timed("result.json", runner.write_json)
-runner._human_grasp = timed("vision", runner._human_grasp)
-runner._plan = timed("planning", runner._plan)
-runner._execute_in_world = timed("simulation", runner._execute_in_world)
-runner._draw_snapshots = timed("pictures", runner._draw_snapshots)
+import graspframe.run_stages as run_stages
+run_stages.human_grasp = timed("vision", run_stages.human_grasp)
+run_stages.plan = timed("planning", run_stages.plan)
+run_stages.execute_in_world = timed("simulation", run_stages.execute_in_world)
+run_stages.draw_run_snapshots = timed("pictures", run_stages.draw_run_snapshots)
 runner.score_grasp = timed("scoring", runner.score_grasp)
 for hook in ("notify_run_started", "notify_run_event", "notify_run_finished"):
     setattr(Registry, hook, observed(getattr(Registry, hook)))

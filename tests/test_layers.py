@@ -36,7 +36,7 @@ FLOORS = {
     "perception": ("vision", "perception"),
     "strategy": ("strategy",),
     "checks": ("testing", "checks"),
-    "runs": ("run_request", "run_result", "scoring", "runner", "experiments"),
+    "runs": ("run_request", "run_result", "scoring", "runner", "run_stages", "experiments"),
     "CLI": ("cli", "commands", "interrupts"),
 }  # fmt: skip
 RANK = {part: rank for rank, parts in enumerate(FLOORS.values()) for part in parts}
