@@ -18,13 +18,16 @@ frame, by the first rule that applies:
   take minutes on a 16k-face scan, hence the cache.
 
 Every piece is a closed convex hull of at most MAX_PIECE_VERTICES vertices (PhysX's own
-limit): a hull with more is reduced by farthest-point sampling of its vertices, starting
-from its extreme points along the axes and the diagonals, and re-hulled. Then every
-vertex closer than PLANE_TOLERANCE to the hull of the others (nearly coplanar with a face
-of it) is dropped, closest first. The result lies inside the original hull, an inner
-approximation; `inner_gap` measures how far the original reaches outside it: at most
-1.37 mm on the Franka Panda's collision meshes (convex STLs of up to 152 hull vertices,
-kept whole but for their flat vertices) and 1.35 mm on the six YCB scans' V-HACD pieces.
+limit): a hull of more than MIN_KEPT_VERTICES keeps the fewest of its vertices, taken by
+farthest-point sampling (first its extreme points along the axes and the diagonals), 64
+and then 32 more at a time, whose hull lies within HULL_TOLERANCE (1.5 mm) inside it
+(`reduced_hull_vertices`). Then every vertex closer than PLANE_TOLERANCE to the hull of
+the others (nearly coplanar with a face of it) is dropped, closest first. The result
+lies inside the original hull, an inner approximation; `inner_gap` measures how far the
+original reaches outside it: at most 1.45 mm on the Franka Panda's collision meshes
+(convex STLs of up to 152 hull vertices, of which 63 to 118 are kept), 1.39 mm on the
+LEAP hand's fingertip meshes (thousands of hull vertices, 29 and 31 kept) and 1.35 mm
+on the six YCB scans' V-HACD pieces.
 PhysX builds its own hull when it cooks a convex mesh and drops the points it finds
 within its plane tolerance (0.7 mm) of the hull under construction; with the pieces
 simplified here it keeps every vertex of almost every piece (on the six YCB scans it
@@ -59,6 +62,9 @@ from graspframe.files import mesh_file
 log = logging.getLogger(__name__)
 
 MAX_PIECE_VERTICES = 255  # PhysX cooks convex meshes of at most 255 vertices
+MIN_KEPT_VERTICES = 64  # a larger hull keeps at least this many of its vertices
+KEPT_VERTICES_STEP = 32  # and more, this many at a time, until within HULL_TOLERANCE
+HULL_TOLERANCE = 1.5e-3  # [m] how far the reduced hull may lie inside the full one
 PLANE_TOLERANCE = 1e-3  # [m] a vertex this close to the hull of the others is dropped
 SLIVER_VOLUME_FRACTION = 1e-4  # of the total volume of the given pieces
 NEARLY_CONVEX_RATIO = 1.02  # hull volume / mesh volume of a mesh taken as its hull
@@ -134,8 +140,8 @@ def convex_hull(points: NDArray[np.float64]) -> trimesh.Trimesh | None:
     points = np.asarray(points, dtype=float).reshape(-1, 3)
     try:
         corners = points[ConvexHull(points).vertices]
-        if len(corners) > MAX_PIECE_VERTICES:
-            corners = farthest_points(corners, MAX_PIECE_VERTICES)
+        if len(corners) > MIN_KEPT_VERTICES:
+            corners = reduced_hull_vertices(corners)
         corners = without_flat_vertices(corners, PLANE_TOLERANCE)
         mesh = trimesh.convex.convex_hull(corners)
     except (QhullError, ValueError):
@@ -143,6 +149,21 @@ def convex_hull(points: NDArray[np.float64]) -> trimesh.Trimesh | None:
     if not (mesh.is_watertight and mesh.volume > 0):
         return None
     return mesh
+
+
+def reduced_hull_vertices(corners: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The fewest of a hull's vertices `corners` (n, 3), in farthest-point order, whose
+    hull lies within HULL_TOLERANCE inside the full hull: MIN_KEPT_VERTICES, then
+    KEPT_VERTICES_STEP more at a time, at most MAX_PIECE_VERTICES. A dense scanned hull
+    (thousands of vertices) keeps few; a hull of long flat faces and sharp edges, such as
+    a vendor's convex link, keeps what its edges need."""
+    ordered = farthest_points(corners, min(len(corners), MAX_PIECE_VERTICES))
+    counts = [*range(MIN_KEPT_VERTICES, len(ordered), KEPT_VERTICES_STEP), len(ordered)]
+    for count in counts:
+        kept = ordered[:count]
+        if inner_gap(corners, trimesh.convex.convex_hull(kept)) <= HULL_TOLERANCE:
+            break
+    return kept
 
 
 def inner_gap(points: NDArray[np.float64], piece: trimesh.Trimesh) -> float:
@@ -251,6 +272,9 @@ def _cache_key(source: Path, scale: Sequence[float], given: bool) -> str:
         [float(s) for s in scale],
         given,
         MAX_PIECE_VERTICES,
+        MIN_KEPT_VERTICES,
+        KEPT_VERTICES_STEP,
+        HULL_TOLERANCE,
         PLANE_TOLERANCE,
         SLIVER_VOLUME_FRACTION,
         NEARLY_CONVEX_RATIO,
