@@ -6,6 +6,7 @@ from pathlib import Path
 
 import pytest
 
+import graspframe.run_stages as run_stages
 import graspframe.runner as runner
 from graspframe import events
 from graspframe.defaults import MOUNT_ARM, MOUNTS
@@ -52,7 +53,7 @@ def test_observers_get_the_descriptions_of_the_run_and_declared_events(
     def stops_after_the_world_is_built(self, world, motion, log):
         raise RuntimeError("stop here")
 
-    monkeypatch.setattr(runner.MethodStrategy, "grasp", stops_after_the_world_is_built)
+    monkeypatch.setattr(run_stages.MethodStrategy, "grasp", stops_after_the_world_is_built)
     registry = Registry.from_entry_points(strict=False)
     registry.add_plugin("observer", Observer())
     request = runner.RunRequest(
@@ -115,7 +116,7 @@ def test_the_run_shows_the_pictures_the_classifier_gives(shows_pictures, tmp_pat
     def stop(*args, **kwargs):
         raise RuntimeError("stop here")
 
-    monkeypatch.setattr(runner, "execute", stop)
+    monkeypatch.setattr(run_stages, "execute", stop)
     registry = Registry.from_entry_points(strict=False)
     registry.add_plugin("stated", Plugin())
     request = runner.RunRequest(

@@ -14,7 +14,7 @@ from graspframe_rerun.recording import RunRecording
 from rerun.chunk import RrdReader
 from scipy.spatial.transform import Rotation
 
-import graspframe.runner as runner
+import graspframe.run_stages as run_stages
 from graspframe.cli import main
 from graspframe.errors import GraspframeError
 from graspframe.events import EXECUTE_PRESHAPE, MOTION_CYCLE, WORLD_BUILT, RunInfo
@@ -154,7 +154,7 @@ def test_a_run_that_raises_midway_leaves_a_readable_recording(tmp_path, monkeypa
         motion.move_palm_to(self.plan.T_world_palm_via)  # some motion gets recorded
         raise RuntimeError("hand controller lost")
 
-    monkeypatch.setattr(runner.MethodStrategy, "grasp", broken)
+    monkeypatch.setattr(run_stages.MethodStrategy, "grasp", broken)
     assert (
         main(["run", "--hand", "barrett", "--grasp", "precision_disc", "--out", str(tmp_path)]) == 1
     )

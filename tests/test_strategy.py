@@ -499,12 +499,12 @@ def test_measured_human_contacts_file_replaces_the_simulation(tmp_path):
 
 
 def test_a_run_that_fails_midway_leaves_a_failed_result(tmp_path, monkeypatch):
-    import graspframe.runner as runner
+    import graspframe.run_stages as run_stages
 
     def broken(*args, **kwargs):
         raise RuntimeError("actuator fault")
 
-    monkeypatch.setattr(runner, "execute", broken)
+    monkeypatch.setattr(run_stages, "execute", broken)
     with pytest.raises(RuntimeError):
         run_grasp(
             RunRequest(hand="barrett", grasp=G.PINCH, out_root=str(tmp_path), record=False),
