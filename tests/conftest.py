@@ -43,6 +43,23 @@ LEAP_HAND_SPEC = Path(__file__).resolve().parents[1] / "docs/examples/hands/leap
 PANDA_SPEC = Path(__file__).resolve().parents[1] / "docs/examples/arms/panda.toml"
 
 
+# Set by .ci/run where the vendor files are present: a test that would skip for want of
+# them fails instead, so that no vendor test passes in CI by skipping.
+REQUIRE_THIRD_PARTY_ENV = "GRASPFRAME_REQUIRE_THIRD_PARTY"
+THIRD_PARTY_SKIPS = ("third-party", "YCB scans")  # words of every such skip's reason
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    outcome = yield
+    report = outcome.get_result()
+    if report.skipped and os.environ.get(REQUIRE_THIRD_PARTY_ENV) == "1":
+        reason = str(report.longrepr[-1]) if isinstance(report.longrepr, tuple) else ""
+        if any(words in reason for words in THIRD_PARTY_SKIPS):
+            report.outcome = "failed"
+            report.longrepr = f"{REQUIRE_THIRD_PARTY_ENV}=1, but the test skipped: {reason}"
+
+
 def _vendor_dir(*parts: str) -> Path:
     if not THIRD_PARTY.joinpath(*parts).is_dir():
         pytest.skip("the third-party vendor models are not on this machine")
