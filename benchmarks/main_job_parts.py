@@ -5,7 +5,7 @@ scoring and the recording.
 
 Runs `graspframe run --hand karlsruhe` (the bundled demo, recorded) in fresh processes:
 one unmeasured run that fills the cache, then `--repeats` measured ones. Each process
-times its own stages by wrapping the runner's stage functions and the observers' calls
+times its own stages by wrapping the run's stage functions (run_stages.py) and the observers' calls
 (the recording), and the parent times the process. Prints the median of each part [s]
 and its share of the wall time. "inputs" is reading the request's names and files;
 "simulation" is the execution in the world without the recording's share; "other" is

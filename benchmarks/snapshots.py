@@ -22,12 +22,12 @@ import time
 
 
 def _one_run(hand: str, out: str) -> None:
-    """In this process: the main job with draw_snapshots timed; prints a JSON line."""
-    import graspframe.runner as runner
+    """In this process: the main job with its snapshots.png timed; prints a JSON line."""
+    import graspframe.run_stages as run_stages
     from graspframe.cli import main
 
     spent_s: list[float] = []
-    draw = runner.draw_snapshots
+    draw = run_stages.draw_run_snapshots
 
     def timed(*args, **kwargs):
         started = time.perf_counter()
@@ -36,7 +36,7 @@ def _one_run(hand: str, out: str) -> None:
         finally:
             spent_s.append(time.perf_counter() - started)
 
-    runner.draw_snapshots = timed
+    run_stages.draw_run_snapshots = timed
     code = main(["run", "--hand", hand, "--no-record", "--out", out])
     print(json.dumps({"exit": code, "draw_s": sum(spent_s)}))
 

@@ -2,7 +2,7 @@
 
 Simulators and collision checkers work on convex shapes: PhysX cooks convex meshes of at
 most 255 vertices, coal's GJK works on convex shapes. `convex_pieces` turns a mesh file
-(OBJ, STL, DAE, GLB, PLY; metres after `scale`) into convex pieces, in the mesh file's own
+(OBJ, STL, DAE, GLB, glTF, PLY; metres after `scale`) into convex pieces, in the mesh file's own
 frame, by the first rule that applies:
 
 - `given_pieces`: a file whose connected parts are already convex pieces (e.g. a YCB

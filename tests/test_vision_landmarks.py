@@ -123,7 +123,7 @@ def _colour_image() -> np.ndarray:
 def test_missing_extra_is_named(monkeypatch, fresh_detector):
     monkeypatch.setitem(sys.modules, "mediapipe", None)  # import mediapipe -> ImportError
     monkeypatch.delenv("GRASPFRAME_HAND_DETECTOR", raising=False)
-    with pytest.raises(NotAvailableError, match=r"graspframe\[hands\]") as info:
+    with pytest.raises(NotAvailableError, match=r"pip install \"\.\[hands\]\"") as info:
         LandmarkClassifier().classify(_colour_image())
     assert "\n" not in str(info.value)
 

@@ -2,7 +2,7 @@
 
 For each variant of the grasp (graspframe/strategy/planner.py: `Variant`), in order, the
 segments the executor will drive are built by the one builder the executor drives them
-from (segments.py, through executor.planned_path): the jerk-limited transfer from the
+from (segments.py, through method.planned_path): the jerk-limited transfer from the
 arm's home to the via pose, then the straight palm lines (descent, approach, back-off,
 lift). Each is checked at the configurations the controller passes through, against the
 table and the object where the robot believes it is (path_check.py: the transfer and

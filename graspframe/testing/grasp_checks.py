@@ -36,7 +36,7 @@ from graspframe.strategy.held_test import GRAVITY
 from graspframe.strategy.reference_poses import R_object_palm_for_design
 from graspframe.transforms import make_T
 
-if TYPE_CHECKING:  # the executor imports the planner, which imports this package's users
+if TYPE_CHECKING:  # method.py imports the planner, which imports this package's users
     from graspframe.strategy.arm_path import CheckedPlan
     from graspframe.strategy.execution import GraspOutcome, Moment
 
