@@ -315,8 +315,7 @@ def _limits(trial: HoldTrial) -> list[str]:
     missing = _never_touched(trial)
     if missing:
         lines.append(f"never touched the object: {', '.join(missing)}")
-    squeeze, weight = _squeeze(trial), trial.obj.mass * GRAVITY
-    friction = trial.obj.static_friction
+    squeeze, friction, weight = _grip(trial)
     lines.append(
         f"squeeze: {squeeze:.1f} N of normal force at the hold; with the object's friction "
         f"{friction:g} it holds at most {friction * squeeze:.1f} N against the "
@@ -331,9 +330,11 @@ def _never_touched(trial: HoldTrial) -> list[str]:
     return [finger for finger in trial.fingers if finger not in touching]
 
 
-def _squeeze(trial: HoldTrial) -> float:
-    """[N] the normal force of every contact at the hold, summed."""
-    return sum(abs(float(np.dot(c.f, c.n))) for c in trial.outcome.contacts)
+def _grip(trial: HoldTrial) -> tuple[float, float, float]:
+    """(squeeze [N]: the normal force of every contact at the hold, summed; the object's
+    static friction; its weight [N])."""
+    squeeze = sum(abs(float(np.dot(c.f, c.n))) for c in trial.outcome.contacts)
+    return squeeze, trial.obj.static_friction, trial.obj.mass * GRAVITY
 
 
 def hold_limit(trial: HoldTrial) -> str:
@@ -347,8 +348,7 @@ def hold_limit(trial: HoldTrial) -> str:
     missing = _never_touched(trial)
     if missing:
         limits.append(f"{', '.join(missing)} never touched the object")
-    squeeze, weight = _squeeze(trial), trial.obj.mass * GRAVITY
-    friction = trial.obj.static_friction
+    squeeze, friction, weight = _grip(trial)
     pushed = (1.0 + DISTURBANCE_FRACTION) * weight  # the pushes come on top of the weight
     if friction * squeeze < pushed:
         limits.append(
