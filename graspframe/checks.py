@@ -39,12 +39,13 @@ from pathlib import Path
 
 from graspframe.files import make_folder
 from graspframe.grasps import HUMAN_HAND
-from graspframe.hal.descriptions import HandDescription, HandPreshape, JointSpec
+from graspframe.hal.descriptions import ArmDescription, HandDescription, HandPreshape, JointSpec
 from graspframe.hal.drivers import Backend
 from graspframe.robot_model import CollisionModel
 from graspframe.testing import hand_problems
 from graspframe.testing.grasp_checks import (
     OPPOSED_MAX_GAP,
+    ExperimentObjects,
     HoldTrial,
     closing_gaps,
     closing_problems,
@@ -200,41 +201,112 @@ def _posed_pictures(hand: HandDescription, folder: Path) -> list[str]:
     return lines
 
 
-def _hold_check(
-    hand: HandDescription, backend: Backend, pictures: Path | None, progress: Callable
-) -> CheckResult:
-    result = CheckResult(
+def _hold_checks(
+    hand: HandDescription,
+    backend: Backend,
+    pictures: Path | None,
+    progress: Callable,
+    experiment: ExperimentObjects | None,
+) -> list[CheckResult]:
+    """The hold check on the design objects and, with `experiment`, the one on
+    experiment A's objects (every grasp each preshape serves)."""
+    design = CheckResult(
         f"the hand alone holds each preshape's design object ({backend.name} physics: "
         "approach, close, 5 cm lift, pushes of half its weight)"
     )
     missing = [name for name, p in hand.preshapes.items() if p.design_object is None]
-    result.problems += [f"preshape {name!r} declares no design object" for name in missing]
-    trials = hold_trials(hand, backend, progress=progress, keep_unplanned=True)
-    held = sum(trial.held for trial in trials)
-    result.measured.append(f"{held} of {len(trials)} held")
-    for trial in trials:
-        result.measured.append(_trial_title(trial))
-        result.measured += [f"  {line}" for line in hold_measures(trial)]
-        if pictures is not None and trial.moments:
-            path = _draw_trial(pictures, hand, trial)
-            result.measured.append(f"  picture: {path}")
-        elif pictures is not None:
-            path = _draw_posed_trial(pictures, hand, trial)
-            result.measured.append(f"  picture (posed, nothing was recorded): {path}")
-        if not trial.held:
-            result.problems.append(
-                f"preshape {trial.preshape!r} ({trial.grasp.value}): "
-                f"{trial.outcome.failure_reason}; limited by: {hold_limit(trial)}"
+    design.problems += [f"preshape {name!r} declares no design object" for name in missing]
+    trials = hold_trials(hand, backend, progress=progress, keep_unplanned=True,
+                         experiment=experiment)  # fmt: skip
+    results = [design]
+    if experiment is not None:
+        results.append(
+            CheckResult(
+                "the hand alone holds experiment A's object for every human grasp (each "
+                "grasp a preshape serves, the palm placed as the human reference places it)"
             )
+        )
+    for kind, result in zip((False, True), results, strict=False):
+        chosen = [trial for trial in trials if trial.experiment == kind]
+        result.measured.append(f"{sum(t.held for t in chosen)} of {len(chosen)} held")
+        for trial in chosen:
+            _report_trial(result, hand, trial, pictures)
+    return results
+
+
+def _report_trial(
+    result: CheckResult, hand: HandDescription, trial: HoldTrial, pictures: Path | None
+) -> None:
+    result.measured.append(_trial_title(trial))
+    result.measured += [f"  {line}" for line in _plan_lines(trial)]
+    result.measured += [f"  {line}" for line in hold_measures(trial)]
+    if pictures is not None and trial.moments:
+        path = _draw_trial(pictures, hand, trial)
+        result.measured.append(f"  picture: {path}")
+    elif pictures is not None:
+        path = _draw_posed_trial(pictures, hand, trial)
+        result.measured.append(f"  picture (posed, nothing was recorded): {path}")
+    if not trial.held:
+        result.problems.append(
+            f"preshape {trial.preshape!r} ({trial.grasp.value}, {trial.obj.name}): "
+            f"{trial.outcome.failure_reason}; limited by: {hold_limit(trial)}"
+        )
+
+
+def _plan_lines(trial: HoldTrial) -> list[str]:
+    """How the plan kept the hand off the table: every raise, and what it cost."""
+    if trial.checked is None:
+        return []
+    plan = trial.checked.plan
+    lines = []
+    if plan.table_raise > 0.0005:
+        lines.append(
+            f"goal raised {1000 * plan.table_raise:.0f} mm to keep the hand off the table "
+            f"(lowest: link {plan.lowest_link!r}, {1000 * plan.lowest_below_palm:.0f} mm "
+            "below the palm)"
+        )
+    if plan.reach:
+        lines.append(
+            f"the raise lifted the fingers off the object; planned instead with {plan.reach}"
+        )
+    if plan.table_raise > 0.0005 or plan.reach:
+        fingers = ", ".join(plan.fingers_on_object) or "none"
+        lines.append(f"real fingers on the object, closed without physics: {fingers}")
+    return lines
+
+
+def _mount_check(hand: HandDescription, arm: ArmDescription) -> CheckResult:
+    from graspframe.errors import GraspframeError
+    from graspframe.mounting import MOUNT_OVERLAP_TOLERANCE, mount, mount_overlaps
+
+    result = CheckResult(
+        f"mounted on {arm.name}: no hand link inside an arm link (at most "
+        f"{1000 * MOUNT_OVERLAP_TOLERANCE:.0f} mm; bolted straight on and through each "
+        "mounting, the arm at home, every preshape open and closed)"
+    )
+    for mounting in (None, *hand.mountings):
+        how = "bolted straight on" if mounting is None else f"through its {mounting} mounting"
+        try:
+            robot = mount(arm, hand, mounting=mounting, check=False)
+        except GraspframeError as exc:
+            result.problems.append(f"{how}: {exc}")
+            continue
+        touching = mount_overlaps(robot, tolerance=-1.0)
+        deepest = (
+            f"deepest: {touching[0].describe()}" if touching else "no hand link touches the arm"
+        )
+        result.measured.append(f"{how}: {deepest}")
+        result.problems += [f"{how}: {overlap.describe()}" for overlap in mount_overlaps(robot)]
     return result
 
 
 def _trial_title(trial: HoldTrial) -> str:
     use = "volar" if trial.grasp.volar_for_robot else "non-volar"
     size = ", ".join(f"{k} {1000 * v:.0f} mm" for k, v in trial.obj.dimensions.items())
+    what = f"{trial.obj.name}, " if trial.experiment else ""
     verdict = "held" if trial.held else f"NOT HELD: {trial.outcome.failure_reason}"
     return (
-        f"{trial.preshape} ({trial.grasp.value}, {use}; {trial.obj.shape} {size}, "
+        f"{trial.preshape} ({trial.grasp.value}, {use}; {what}{trial.obj.shape} {size}, "
         f"{1000 * trial.obj.mass:.0f} g): {verdict}"
     )
 
@@ -243,9 +315,10 @@ def _draw_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> Path:
     from graspframe.snapshots import draw_grasp
 
     assert trial.checked is not None  # a trial with moments ran a plan
-    what = f"{hand.name} alone, {trial.preshape} ({trial.grasp.value}) on its design object"
+    on = f"experiment A's {trial.obj.name}" if trial.experiment else "its design object"
+    what = f"{hand.name} alone, {trial.preshape} ({trial.grasp.value}) on {on}"
     make_folder(folder, "pictures folder")
-    path = folder / f"{trial.preshape}_{trial.grasp.value}.png"
+    path = folder / _trial_picture(trial)
     return draw_grasp(
         path, trial.checked.robot, trial.checked.T_world_base, trial.obj, 0.0, trial.moments,
         what, trial.held, trial.outcome.failure_reason,
@@ -260,8 +333,14 @@ def _draw_posed_trial(folder: Path, hand: HandDescription, trial: HoldTrial) -> 
         f"not held: {trial.outcome.failure_reason}\nno moment of the trial was recorded: "
         "the preshape posed closed around its design object, without physics"
     )
-    path = folder / f"{trial.preshape}_{trial.grasp.value}.png"
+    path = folder / _trial_picture(trial)
     return _draw_closing(path, hand, hand.preshape(trial.preshape), caption)
+
+
+def _trial_picture(trial: HoldTrial) -> str:
+    """PRESHAPE_GRASP.png, PRESHAPE_GRASP_experiment_a.png for experiment A's object."""
+    suffix = "_experiment_a" if trial.experiment else ""
+    return f"{trial.preshape}_{trial.grasp.value}{suffix}.png"
 
 
 def check_hand_report(
@@ -269,10 +348,14 @@ def check_hand_report(
     backend: Backend | None = None,
     pictures: Path | None = None,
     progress: Callable[[str], None] = lambda _message: None,
+    arm: ArmDescription | None = None,
+    experiment: ExperimentObjects | None = None,
 ) -> tuple[bool, list[str]]:
     """(passed, lines to print) for one hand description; with a backend, the hand
-    alone must also hold its design objects in it (pictures of each trial go to the
-    `pictures` folder when one is given)."""
+    alone must also hold its design objects in it and, with `experiment`, experiment
+    A's object for every human grasp (pictures of each trial go to the `pictures`
+    folder when one is given); with an arm, its links must clear the arm's once
+    mounted."""
     checks = [_description_check(hand)]
     robot_hand = hand.name != HUMAN_HAND
     if robot_hand and pictures is not None and not checks[0].passed:
@@ -282,13 +365,21 @@ def check_hand_report(
         reason = "the description check failed"
     checks.append(_closing_check(hand, pictures) if robot_hand and checks[-1].passed else
                   CheckResult("closing in free space", skipped=reason))  # fmt: skip
+    if arm is not None:
+        checks.append(
+            _mount_check(hand, arm) if robot_hand and checks[0].passed else
+            CheckResult(f"mounted on {arm.name}", skipped=reason)
+        )  # fmt: skip
+    holds = ["holding the design objects"]
+    if experiment is not None:
+        holds.append("holding experiment A's objects")
     if backend is None:
-        checks.append(CheckResult("holding the design objects", skipped="--no-hold"))
-    elif robot_hand and checks[-1].passed:
-        checks.append(_hold_check(hand, backend, pictures, progress))
+        checks += [CheckResult(name, skipped="--no-hold") for name in holds]
+    elif robot_hand and checks[1].passed:
+        checks += _hold_checks(hand, backend, pictures, progress, experiment)
     else:
         skipped = reason if not robot_hand or not checks[0].passed else "closing failed"
-        checks.append(CheckResult("holding the design objects", skipped=skipped))
+        checks += [CheckResult(name, skipped=skipped) for name in holds]
     passed = all(check.passed or check.skipped for check in checks)
     ran = sum(check.skipped is None for check in checks)
     verdict = "all passed" if passed else "FAILED"

@@ -101,6 +101,10 @@ def plugins(
                 "version": p.version,
                 "status": p.status,
                 "provides": [{"kind": kind, "name": name} for kind, name in p.provides],
+                "not_registered": [
+                    {"kind": kind, "name": name, "reason": reason}
+                    for kind, name, reason in p.not_registered
+                ],
                 "error": p.error,
             }
             for p in registry.plugins
@@ -113,6 +117,9 @@ def plugins(
     for info in registry.plugins:
         if info.status == "loaded":
             provided = ", ".join(f"{kind} {name}" for kind, name in info.provides) or "-"
+            if info.not_registered:
+                count = len(info.not_registered)
+                provided += f"; found and not registered: {count} (graspframe objects: why)"
             status = "[green]loaded[/green]"
         else:
             provided = info.error or ""
@@ -129,6 +136,44 @@ def plugins(
         if details:
             for info in failed:
                 console.print(f"\n[bold]{info.name}[/bold] ({info.package})\n{info.details}")
+
+
+@app.command()
+def objects(
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")] = False,
+) -> None:
+    """List the objects: source, mass, size, the grasps a person would use; and what the
+    object sources found and could not register, with why."""
+    from dataclasses import asdict
+
+    from graspframe.commands.objects import object_rows
+    from graspframe.registry import default_registry
+
+    rows, unregistered = object_rows(default_registry())
+    if as_json:
+        document = {
+            "objects": [asdict(row) for row in rows],
+            "not_registered": [
+                {"name": name, "plugin": plugin, "reason": reason}
+                for name, plugin, reason in unregistered
+            ],
+        }
+        print(json.dumps(document, indent=2))
+        return
+    table = Table(title="graspframe objects")
+    for column in ("object", "plugin", "shape", "mass g", "size mm (x, y, z)", "grasps"):
+        table.add_column(column)
+    for row in rows:
+        size = " x ".join(f"{v:g}" for v in row.size_mm)
+        grasps = ", ".join(row.grasps)
+        if row.grasps_from != "given":
+            grasps += f" ({row.grasps_from})"
+        table.add_row(row.name, row.plugin, row.shape, f"{row.mass_g:g}", size, escape(grasps))
+    console.print(table)
+    if unregistered:
+        console.print(f"{len(unregistered)} object(s) found but not registered:")
+        for name, plugin, reason in unregistered:
+            console.print(f"  {name} ({plugin}): {escape(reason)}")
 
 
 def _parse_error_mm(text: str) -> tuple[float, float]:
@@ -357,8 +402,8 @@ def check_hand(
         bool,
         typer.Option(
             "--hold/--no-hold",
-            help="Also check that the hand alone holds its design objects (physics, ~5 s "
-            "per preshape).",
+            help="Also check that the hand alone holds its design objects and experiment "
+            "A's object for every human grasp (physics, ~5 s a trial).",
         ),
     ] = True,
     backend: Annotated[
@@ -370,11 +415,20 @@ def check_hand(
             help="Folder for the pictures of the hold check (default runs/check-hand/NAME)."
         ),
     ] = None,
+    arm: Annotated[
+        str,
+        typer.Option(
+            help="Arm the hand's links must clear once mounted: a registered name, an arm "
+            "spec file (*.toml), or 'none'."
+        ),
+    ] = DEFAULT_ARM,
 ) -> None:
     """Check a hand plugin against the contract and say, in plain words, what is wrong."""
     from graspframe.commands.check_hand import check_hand_command
 
-    raise typer.Exit(check_hand_command(name, hold=hold, backend=backend, pictures=pictures))
+    on_arm = None if arm.strip().lower() == "none" else arm
+    code = check_hand_command(name, hold=hold, backend=backend, pictures=pictures, arm=on_arm)
+    raise typer.Exit(code)
 
 
 def main(argv: list[str] | None = None) -> int:

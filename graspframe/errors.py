@@ -16,10 +16,13 @@ class GraspframeError(Exception):
 class UnknownNameError(GraspframeError, KeyError):
     """A name (hand, arm, grasp, object, ...) that is not known; lists the known ones."""
 
-    def __init__(self, kind: str, name: str, known: Iterable[str]) -> None:
+    def __init__(self, kind: str, name: str, known: Iterable[str], why: str | None = None) -> None:
         self.kind = kind
         self.name = name
         self.known = sorted(known)
+        if why is not None:  # it was found, but could not be registered
+            super().__init__(f"{kind} {name!r} is not registered: {why}")
+            return
         listing = ", ".join(self.known) if self.known else "none are registered"
         kinds = f"{kind[:-1]}ies" if kind.endswith("y") else f"{kind}s"  # strategy: strategies
         super().__init__(f"unknown {kind} {name!r}; known {kinds}: {listing}")

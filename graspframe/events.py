@@ -143,6 +143,16 @@ PLAN_DONE = EventKind(
         ),
         PayloadField("R_object_symmetry", "3x3 rotation of the object frame the variant used"),
         PayloadField("volar_gap", "[m] how far the palm backs off the object before closing"),
+        PayloadField("lowest_link", "the hand link whose lowest point set min_goal_height"),
+        PayloadField("lowest_below_palm", "[m] how far below the palm origin it reaches"),
+        PayloadField(
+            "reach", "how the fingers were kept on the object the raise lifted them off, or ''"
+        ),
+        PayloadField(
+            "fingers_on_object", "the real fingers the closing brings onto the object (no physics)"
+        ),
+        PayloadField("fingers_without_table", "... and those it would with no table in the way"),
+        PayloadField("open_inside_object", "hand links inside the object, open, at the goal"),
         PayloadField("variants_refused", "the variants refused before this one, with reasons"),
     ),
 )

@@ -9,7 +9,9 @@ takes a comma-separated list of plugin names not to load.
 
 Core code asks the registry (`get_hand("karlsruhe")`), never `pm.hook` directly. Where
 a hand or an arm is asked for, a spec file path (`my_hand.toml`, graspframe/specs/)
-may stand in for a registered name.
+may stand in for a registered name; where an object is, a mesh file with its sidecar
+(`mug.obj` beside `mug.toml`, graspframe/specs/objects.py). What a plugin found and
+could not register (`NotRegistered`) is kept with the plugin and named when looked up.
 """
 
 from __future__ import annotations
@@ -37,8 +39,9 @@ from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.drivers import Backend
 from graspframe.hal.objects import ObjectDescription
 from graspframe.hal.viewer import Viewer
-from graspframe.plugins import hookspecs
+from graspframe.plugins import NotRegistered, hookspecs
 from graspframe.specs import is_spec_path, load_spec
+from graspframe.specs.objects import is_object_path, load_object_file
 
 log = logging.getLogger(__name__)
 
@@ -140,6 +143,8 @@ class PluginInfo:
     error: str | None = None
     details: str | None = None
     provides: list[tuple[str, str]] = field(default_factory=list)  # (kind, name)
+    # what its register hooks found and could not register: (kind, name, reason)
+    not_registered: list[tuple[str, str, str]] = field(default_factory=list)
 
 
 def _strict_from_env() -> bool:
@@ -235,19 +240,30 @@ class Registry:
     def _collect(self, info: PluginInfo, module: object) -> None:
         """Call this plugin's register hooks; add its entries only if all of them succeed."""
         staged: list[Entry] = []
+        skipped: list[tuple[str, str, str]] = []
         for kind in KINDS.values():
             for impl in getattr(self._pm.hook, kind.hook).get_hookimpls():
                 if impl.plugin is not module:
                     continue
-                _call(impl, register=self._stager(kind, info, staged))
+                _call(impl, register=self._stager(kind, info, staged, skipped))
         for entry in staged:
             self._check_unique(entry)
         for entry in staged:
             self._entries[entry.kind][entry.name] = entry
             info.provides.append((entry.kind, entry.name))
+        info.not_registered.extend(skipped)
 
-    def _stager(self, kind: _Kind, info: PluginInfo, staged: list[Entry]) -> Callable:
+    def _stager(
+        self,
+        kind: _Kind,
+        info: PluginInfo,
+        staged: list[Entry],
+        skipped: list[tuple[str, str, str]],
+    ) -> Callable:
         def register(item: Any) -> None:
+            if isinstance(item, NotRegistered):
+                skipped.append((kind.name, item.name, item.reason))
+                return
             if not kind.accepts(item):
                 raise PluginError(
                     f"plugin {info.name!r} registered {item!r} as a {kind.name}; "
@@ -300,7 +316,21 @@ class Registry:
         try:
             return self._entries[kind][name]
         except KeyError:
+            for plugin, reason in self.not_registered(kind).get(name, []):
+                raise UnknownNameError(
+                    kind, name, self._entries[kind], f"plugin {plugin!r} found it: {reason}"
+                ) from None
             raise UnknownNameError(kind, name, self._entries[kind]) from None
+
+    def not_registered(self, kind: str) -> dict[str, list[tuple[str, str]]]:
+        """name -> [(plugin, reason)] of what the plugins found of a kind and could not
+        register."""
+        found: dict[str, list[tuple[str, str]]] = {}
+        for info in self.plugins:
+            for item_kind, name, reason in info.not_registered:
+                if item_kind == kind:
+                    found.setdefault(name, []).append((info.name, reason))
+        return found
 
     def get_hand(self, name: str) -> HandDescription:
         """The registered hand `name`, or the hand of the spec file `name` (*.toml)."""
@@ -321,6 +351,10 @@ class Registry:
         return self.entry("classifier", name).item
 
     def get_object(self, name: str) -> ObjectDescription:
+        """The registered object `name`, or the object of a mesh file with its sidecar
+        (or of the sidecar file itself, graspframe/specs/objects.py)."""
+        if is_object_path(name):
+            return _load_object_file(str(Path(name).expanduser().resolve()))
         return self.entry("object", name).item
 
     def get_camera(self, name: str) -> type[DepthCamera]:
@@ -391,6 +425,11 @@ def _spec_of_kind(path: str, kind: type, what: str) -> Any:
 @functools.cache
 def _load_spec(path: str) -> HandDescription | ArmDescription:
     return load_spec(path)
+
+
+@functools.cache
+def _load_object_file(path: str) -> ObjectDescription:
+    return load_object_file(path)
 
 
 @functools.cache

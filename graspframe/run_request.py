@@ -197,6 +197,10 @@ def resolve(request: RunRequest, registry: Registry) -> RunInputs:
         reference_file = load_reference_file(request.human_contacts)
     human = registry.get_hand(HUMAN_HAND)
     reference_backend_cls = registry.get_backend(DEFAULT_BACKEND)
+    if request.mount == MOUNT_ARM:  # once every name is known: this loads the models
+        from graspframe.mounting import check_mounts
+
+        check_mounts(arm, hand)  # a hand whose links overlap the arm's fails here
     return RunInputs(
         hand,
         arm,

@@ -16,7 +16,11 @@ and the pictures all load (`UrdfModel`):
 - frames the file lacks (a palm frame, a palm pad, fingertip frames, a flange) are added
   as links fixed to existing links at given offsets (`FrameOffset`);
 - an arm is cut at its flange: whatever the vendor mounted beyond it (its own gripper)
-  is dropped;
+  is dropped, and so are the shapes of a tool the vendor merged into a link (its
+  `tool_links`);
+- the tree is rooted where the robot is fixed: a hand at its mount link, an arm at its
+  base link, whatever link the file is rooted at (graspframe/urdf_tree.py); continuous
+  joints become revolute joints within the file's limits, one value per joint;
 - only links and joints are kept (materials, transmissions, simulator tags are not
   needed by any tool here).
 
@@ -30,7 +34,7 @@ import functools
 import hashlib
 import os
 import xml.etree.ElementTree as ET
-from collections.abc import Iterable, Mapping
+from collections.abc import Collection, Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -49,6 +53,7 @@ from graspframe.urdf_elements import (
     to_text,
     visual_of,
 )
+from graspframe.urdf_tree import continuous_as_revolute, descendants, drop_links, reroot
 
 # Mass and inertia of an added frame link: the simulator wants some on every link; it is
 # welded to its parent, so only the order of magnitude matters.
@@ -175,48 +180,29 @@ def _frame_link(name: str, offset: FrameOffset) -> tuple[ET.Element, ET.Element]
     return link, joint
 
 
-def descendants(robot: ET.Element, link: str) -> set[str]:
-    """Every link below `link` in the kinematic tree (not `link` itself)."""
-    children: dict[str, list[str]] = {}
-    for joint in robot.findall("joint"):
-        parent, child = joint.find("parent"), joint.find("child")
-        if parent is not None and child is not None:
-            children.setdefault(parent.get("link", ""), []).append(child.get("link", ""))
-    found: set[str] = set()
-    stack = list(children.get(link, []))
-    while stack:
-        name = stack.pop()
-        if name not in found:
-            found.add(name)
-            stack.extend(children.get(name, []))
-    return found
-
-
-def _drop_links(robot: ET.Element, links: set[str]) -> None:
-    """Remove the links and every joint whose child is one of them."""
-    for element in list(robot):
-        if element.tag == "link" and element.get("name") in links:
-            robot.remove(element)
-        elif element.tag == "joint":
-            child = element.find("child")
-            if child is not None and child.get("link") in links:
-                robot.remove(element)
-
-
 def read_model(
     path: Path,
     packages: Mapping[str, Path] | None = None,
     frames: Mapping[str, FrameOffset] | None = None,
     cut_below: str | None = None,
     prefix: str = "",
+    root_at: str | None = None,
+    root_role: str = "the root link",
+    tool_links: Collection[str] = (),
 ) -> UrdfModel:
     """The model of a URDF file as shipped (see the module docstring).
 
     packages: package name -> folder, for package:// mesh names.
     frames: frames to add, by name (each fixed to an existing link).
     cut_below: drop every link below this one (an arm's flange link).
-    prefix: put before every link and joint name of the file; `frames` and `cut_below`
-        use the prefixed names.
+    prefix: put before every link and joint name of the file; `frames`, `cut_below` and
+        `root_at` use the prefixed names.
+    root_at: the link (or added frame) the model is rooted at (a hand's mount link, an
+        arm's base link: graspframe/urdf_tree.py); None: the file's root. `root_role`
+        names it in errors.
+    tool_links: links (names as in the file) whose visual and collision shapes are the
+        vendor's own tool, which a mounted hand replaces (a gripper housing merged into
+        an arm's last link): left out, the links kept.
     """
     path = Path(path)
     packages = {name: Path(folder) for name, folder in (packages or {}).items()}
@@ -225,11 +211,21 @@ def read_model(
     colours = named_colours(source)
     robot = ET.Element("robot", {"name": source.get("name", path.stem)})
     visuals: list[Visual] = []
+    file_links = {e.get("name", "") for e in source.findall("link")}
+    for name in tool_links:
+        if name not in file_links:
+            raise DescriptionError(
+                f"{path.name}: tool link {name!r} (the vendor's tool, left out) is not a link "
+                "of the file"
+            )
     for element in source:
         if element.tag not in ("link", "joint"):
             continue
         if element.tag == "link":
             name = element.get("name", "")
+            if name in tool_links:  # the vendor's tool: its shapes go, the link stays
+                for shape in element.findall("visual") + element.findall("collision"):
+                    element.remove(shape)
             for visual in element.findall("visual"):
                 element.remove(visual)
                 found = visual_of(name, visual, colours, urdf_dir, packages)
@@ -246,9 +242,12 @@ def read_model(
                 f"{path.name}: link {cut_below!r} (the flange) is not in the file"
             )
         dropped = descendants(robot, cut_below)
-        _drop_links(robot, dropped)
+        drop_links(robot, dropped)
         visuals = [v for v in visuals if v.link not in dropped]
     add_frames(robot, frames or {}, path.name)
+    if root_at is not None:
+        reroot(robot, root_at, path.name, root_role)
+    continuous_as_revolute(robot)
     return UrdfModel(robot.get("name", path.stem), to_text(robot), tuple(visuals), (path,))
 
 
@@ -358,6 +357,9 @@ def description_model(
     frames: Mapping[str, FrameOffset],
     cut_below: str | None = None,
     prefix: str = "",
+    root_at: str | None = None,
+    root_role: str = "the root link",
+    tool_links: Collection[str] = (),
 ) -> UrdfModel:
     """`read_model`, once per process for the same file (unchanged on disk) and options."""
     key = (
@@ -369,7 +371,12 @@ def description_model(
         ),
         cut_below,
         prefix,
+        root_at,
+        root_role,
+        tuple(tool_links),
     )
     if key not in _MODELS:
-        _MODELS[key] = read_model(Path(path), packages, frames, cut_below, prefix)
+        _MODELS[key] = read_model(
+            Path(path), packages, frames, cut_below, prefix, root_at, root_role, tool_links
+        )
     return _MODELS[key]

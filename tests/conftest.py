@@ -41,6 +41,7 @@ def _third_party() -> Path:
 THIRD_PARTY = _third_party()
 LEAP_HAND_SPEC = Path(__file__).resolve().parents[1] / "docs/examples/hands/leap_hand.toml"
 PANDA_SPEC = Path(__file__).resolve().parents[1] / "docs/examples/arms/panda.toml"
+JACO2_SPEC = Path(__file__).resolve().parents[1] / "docs/examples/arms/kinova_jaco2.toml"
 
 
 # Set by .ci/run where the vendor files are present: a test that would skip for want of
@@ -80,6 +81,22 @@ def panda_description_dir(monkeypatch) -> Path:
     folder = _vendor_dir("arms", "panda", "example-robot-data", "robots", "panda_description")
     monkeypatch.setenv("PANDA_DESCRIPTION_DIR", str(folder))
     return folder
+
+
+@pytest.fixture
+def kinova_description_dir(monkeypatch) -> Path:
+    """The vendor's Kinova description folder, named by KINOVA_DESCRIPTION_DIR."""
+    folder = _vendor_dir(
+        "arms", "kinova_jaco2", "example-robot-data", "robots", "kinova_description"
+    )
+    monkeypatch.setenv("KINOVA_DESCRIPTION_DIR", str(folder))
+    return folder
+
+
+@pytest.fixture
+def ycb_scans() -> Path:
+    """The folder of YCB scans (the set's layout), read in place."""
+    return _vendor_dir("objects", "ycb")
 
 
 def folder_state(folder: Path) -> dict[str, str]:

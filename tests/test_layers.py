@@ -26,7 +26,8 @@ FLOORS = {
         "__init__", "errors", "transforms", "grasps", "contacts", "files", "cache", "defaults",
     ),
     "files": (
-        "urdf_elements", "urdf_model", "convex", "mesh_geometry", "results", "scene", "demo",
+        "urdf_elements", "urdf_tree", "urdf_model", "convex", "mesh_geometry", "results",
+        "scene", "demo",
     ),
     "descriptions and HAL": ("hal", "events"),
     "robot models": ("robot_model", "mounting", "floating_base", "shapes"),

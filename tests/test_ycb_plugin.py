@@ -4,16 +4,16 @@ what it says when GRASPFRAME_YCB_DIR is unset, missing, empty or incomplete, and
 
 from __future__ import annotations
 
-import logging
 from pathlib import Path
 
 import pytest
 import trimesh
-from graspframe_ycb.plugin import YCB_DIR_ENV, YCB_OBJECTS, ycb_objects
+from graspframe_ycb.catalogue import UNWEIGHED, YCB_OBJECTS
+from graspframe_ycb.plugin import YCB_DIR_ENV, ycb_objects
 
 import graspframe.registry
 from graspframe.cli import main
-from graspframe.errors import InputError, PluginError
+from graspframe.errors import InputError, PluginError, UnknownNameError
 from graspframe.experiments.sweep import SweepConfig, object_grasps, plan_trials
 from graspframe.grasps import HumanGrasp
 from graspframe.hal import ObjectDescription
@@ -50,20 +50,29 @@ def test_unset_registers_nothing(monkeypatch):
     assert not [n for n in registry.names("object") if n.startswith("ycb_")]
 
 
-def test_a_ycb_layout_folder_is_registered_by_folder_name(tmp_path, monkeypatch, caplog):
+def test_a_ycb_layout_folder_is_registered_by_folder_name(tmp_path, monkeypatch):
     _ycb_folder(tmp_path, "061_foam_brick")
     _ycb_folder(tmp_path, "025_mug", pieces=False)
+    _ycb_folder(tmp_path, "065-c_cups")  # a lettered id of the set
     _ycb_folder(tmp_path, "999_unknown_thing")
+    _ycb_folder(tmp_path, "063-b_marbles")  # in the set, but weighed by nobody
     (tmp_path / "README.txt").write_text("not an object")
     monkeypatch.setenv(YCB_DIR_ENV, str(tmp_path))
-    with caplog.at_level(logging.WARNING):
-        registry = Registry.from_entry_points()
-    assert _plugin(registry).status == "loaded"
+    registry = Registry.from_entry_points()
+    info = _plugin(registry)
+    assert info.status == "loaded"
     assert [n for n in registry.names("object") if n.startswith("ycb_")] == [
         "ycb_025_mug",
         "ycb_061_foam_brick",
+        "ycb_065-c_cups",
     ]
-    assert "999_unknown_thing" in caplog.text  # left out: no published mass in the table
+    skipped = {name: reason for _kind, name, reason in info.not_registered}
+    assert set(skipped) == {"ycb_999_unknown_thing", "ycb_063-b_marbles"}
+    marbles = tmp_path / "063-b_marbles/google_16k/textured.toml"
+    assert f"set mass = <kg> in {marbles}" in skipped["ycb_063-b_marbles"]
+    assert "give no mass for this part of the set" in skipped["ycb_063-b_marbles"]
+    with pytest.raises(UnknownNameError, match="object 'ycb_999_unknown_thing' is not registered"):
+        registry.get_object("ycb_999_unknown_thing")
     brick = registry.get_object("ycb_061_foam_brick")
     assert brick.shape == "mesh" and brick.mass == YCB_OBJECTS["061_foam_brick"].mass
     assert brick.collision_path == tmp_path / "061_foam_brick/google_16k/textured_vhacd.stl"
@@ -71,6 +80,30 @@ def test_a_ycb_layout_folder_is_registered_by_folder_name(tmp_path, monkeypatch,
     assert brick.half_height == pytest.approx(0.025, abs=1e-6)  # recentred from the scan
     mug = registry.get_object("ycb_025_mug")
     assert mug.collision_path is None and mug.mesh_geometry().convex.method == "hull"
+    assert registry.get_object("ycb_065-c_cups").mass == pytest.approx(0.017)
+
+
+def test_a_sidecar_gives_a_ycb_object_its_mass_or_replaces_the_tables(tmp_path, monkeypatch):
+    marbles = _ycb_folder(tmp_path, "063-b_marbles")
+    (marbles / "textured.toml").write_text('mass = 0.031\ngrasps = ["pinch"]\n')
+    brick = _ycb_folder(tmp_path, "061_foam_brick")
+    (brick / "textured.toml").write_text("mass = 0.05\n")  # weighed by the user
+    monkeypatch.setenv(YCB_DIR_ENV, str(tmp_path))
+    registry = Registry.from_entry_points()
+    assert registry.get_object("ycb_063-b_marbles").mass == pytest.approx(0.031)
+    assert registry.get_object("ycb_063-b_marbles").collision_path == marbles / "textured_vhacd.stl"
+    assert registry.get_object("ycb_061_foam_brick").mass == pytest.approx(0.05)
+    assert _plugin(registry).not_registered == []
+
+
+def test_the_table_holds_the_whole_set_with_masses_and_grasps():
+    assert len(YCB_OBJECTS) == 73
+    assert all(0.0005 < facts.mass < 2.0 for facts in YCB_OBJECTS.values())
+    for folder, grams in (("005_tomato_soup_can", 349), ("006_mustard_bottle", 603),
+                          ("011_banana", 66), ("025_mug", 118), ("056_tennis_ball", 58),
+                          ("061_foam_brick", 28), ("002_master_chef_can", 414)):  # fmt: skip
+        assert YCB_OBJECTS[folder].mass == pytest.approx(grams / 1000)
+    assert not set(YCB_OBJECTS) & set(UNWEIGHED) and len(UNWEIGHED) == 30
 
 
 @pytest.mark.parametrize(
@@ -108,7 +141,11 @@ class _Objects:
 
     @hookimpl
     def graspframe_register_objects(self, register):
-        register(ObjectDescription("bare_box", "box", {"size_x": 1, "size_y": 1, "size_z": 1}, 1))
+        register(
+            ObjectDescription(
+                "bare_box", "box", {"size_x": 0.02, "size_y": 0.03, "size_z": 0.05}, 1
+            )
+        )
 
 
 def test_a_sweep_over_objects_runs_each_objects_documented_grasps(tmp_path, monkeypatch):
@@ -116,8 +153,7 @@ def test_a_sweep_over_objects_runs_each_objects_documented_grasps(tmp_path, monk
     registry.add_plugin("bare", _Objects())
     monkeypatch.setattr(graspframe.registry, "default_registry", lambda: registry)
     assert object_grasps("large_cylinder_075") == ("large_diameter",)  # its size's grasp
-    with pytest.raises(InputError, match="object 'bare_box' has no documented grasp"):
-        object_grasps("bare_box")
+    assert object_grasps("bare_box") == ("pinch",)  # none given: from its shape, a small block
     config = SweepConfig(
         hands=("barrett",),
         grasps=(),

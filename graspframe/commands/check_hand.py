@@ -9,6 +9,7 @@ import typer
 
 from graspframe import registry as registry_module
 from graspframe.defaults import DEFAULT_BACKEND
+from graspframe.grasps import HUMAN_HAND
 from graspframe.registry import Registry
 
 
@@ -18,18 +19,28 @@ def check_hand_command(
     hold: bool = True,
     backend: str = DEFAULT_BACKEND,
     pictures: Path | None = None,
+    arm: str | None = None,
 ) -> int:
     """Check the hand `name` (registered, or a spec file); print the result; 0 if it
     passed, else 1.
 
     registry: where to look the hand up (default: every installed plugin). An unknown
     name raises the registry's UnknownNameError, which lists the known hands.
-    hold: also check that the hand alone holds its design objects, in `backend`.
+    hold: also check that the hand alone holds its design objects and experiment A's
+    object for every human grasp, in `backend`.
     pictures: folder for the pictures of the hold trials (default runs/check-hand/NAME).
+    arm: check that the hand's links clear this arm's once mounted (None: no arm).
     """
     registry = registry or registry_module.default_registry()
     hand = registry.get_hand(name)
     physics = registry.get_backend(backend)() if hold else None
+    arm_description = registry.get_arm(arm) if arm is not None else None
+    experiment = None
+    if hold and hand.name != HUMAN_HAND:
+        from graspframe.testing.grasp_checks import ExperimentObjects
+
+        objects = {grasp: registry.default_object_for(grasp) for grasp in hand.grasp_map}
+        experiment = ExperimentObjects(registry.get_hand(HUMAN_HAND), objects)
     # The checks (contracts, kinematics, pictures) are imported once the names are known:
     # a mistyped name is answered at once.
     from graspframe.checks import check_hand_report
@@ -38,7 +49,7 @@ def check_hand_command(
         typer.echo(f"· {message}", err=True)
 
     folder = pictures or Path("runs") / "check-hand" / hand.name
-    passed, lines = check_hand_report(hand, physics, folder, progress)
+    passed, lines = check_hand_report(hand, physics, folder, progress, arm_description, experiment)
     for line in lines:
         typer.echo(line)
     return 0 if passed else 1

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 from rich.console import Console
 
-from graspframe.defaults import MOUNTS, STRATEGIES, STRATEGY_METHOD
+from graspframe.defaults import MOUNT_ARM, MOUNTS, STRATEGIES, STRATEGY_METHOD
 from graspframe.errors import InputError, UnknownNameError
 from graspframe.experiments.sweep import SweepConfig
 
@@ -21,17 +21,21 @@ if TYPE_CHECKING:
 
 def names_option(text: str, kind: str, known: list[str]) -> tuple[str, ...]:
     """A comma-separated list of names (or "all"), each checked against the known ones;
-    for hands, a spec file path (*.toml) is loaded and checked instead."""
+    for hands, a spec file path (*.toml) is loaded and checked instead, for objects a
+    mesh file with its sidecar."""
+    from graspframe.registry import default_registry
     from graspframe.specs import is_spec_path
+    from graspframe.specs.objects import is_object_path
 
     if text.strip() == "all":
         return tuple(known)
     names = tuple(n.strip() for n in text.split(",") if n.strip())
     for name in names:
         if kind == "hand" and is_spec_path(name):
-            from graspframe.registry import default_registry
-
             default_registry().get_hand(name)  # a spec that does not load fails here
+        elif kind == "object" and (is_object_path(name) or name not in known):
+            # a mesh without its sidecar, or an object found and not registered, says why
+            default_registry().get_object(name)
         elif name not in known:
             raise UnknownNameError(kind, name, known)
     if not names:
@@ -84,8 +88,15 @@ def sweep_config(
         )
     all_grasps = [g.value for g in HumanGrasp]
     grasp_names = () if object_names else names_option(grasps or "all", "grasp", all_grasps)
+    hand_names = names_option(hands, "hand", registry.names("hand"))
+    mount_names = names_option(mount, "mount", list(MOUNTS))
+    if MOUNT_ARM in mount_names:
+        from graspframe.mounting import check_mounts
+
+        for hand in hand_names:  # a hand whose links overlap the arm's fails before any trial
+            check_mounts(registry.get_arm(arm), registry.get_hand(hand))
     return SweepConfig(
-        hands=names_option(hands, "hand", registry.names("hand")),
+        hands=hand_names,
         grasps=grasp_names,
         out_dir=out,
         rho=rho_mm / 1000.0,
@@ -96,7 +107,7 @@ def sweep_config(
         seed=seed,
         time_limit=time_limit,
         record=record,
-        mounts=names_option(mount, "mount", list(MOUNTS)),
+        mounts=mount_names,
         sizes=sizes_option(sizes),
         arm=arm,
         objects=object_names,

@@ -138,18 +138,12 @@ def plan_trials(config: SweepConfig) -> list[TrialSpec]:
 
 
 def object_grasps(name: str) -> tuple[str, ...]:
-    """The grasps documented for the registered object `name`; InputError when it has
-    none (UnknownNameError for an unknown name, listing the known ones)."""
+    """The grasps a person would use on the registered object `name`
+    (`ObjectDescription.documented_grasps`; UnknownNameError for an unknown name,
+    listing the known ones)."""
     from graspframe.registry import default_registry
 
-    obj = default_registry().get_object(name)
-    grasps = obj.documented_grasps()
-    if not grasps:
-        raise InputError(
-            f"object {name!r} has no documented grasp (ObjectDescription.grasps or "
-            "default_for): a sweep over objects runs the grasps a person would use on it"
-        )
-    return tuple(g.value for g in grasps)
+    return tuple(g.value for g in default_registry().get_object(name).documented_grasps())
 
 
 def _object_trials(

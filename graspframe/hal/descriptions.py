@@ -258,8 +258,11 @@ class HandDescription:
     """A robot (or human) hand.
 
     model_path: URDF file of the hand alone, as shipped (meshes, visuals, package://
-        names: graspframe/urdf_model.py), its root link at the mounting interface.
-    root_link: the link that is fixed to an arm flange (or floats freely).
+        names: graspframe/urdf_model.py).
+    root_link: the mount link: the link (or added frame, one of `frames`) bolted to the
+        arm's flange, its origin on the mounting interface, +z away from the arm (or the
+        link that floats freely). The model is rooted there whatever link the file is
+        rooted at (graspframe/urdf_tree.py).
     joints: every actuated joint, followers of in-model couplings excluded.
     couplings: joint couplings (see `Coupling`).
     palm_frame: a link whose frame is the palm frame: origin at the centre of the palm
@@ -310,7 +313,13 @@ class HandDescription:
 
     def urdf(self) -> UrdfModel:
         """The hand's model as every tool loads it (read once per process)."""
-        return description_model(self.model_path, self.packages, self.frames)
+        return description_model(
+            self.model_path,
+            self.packages,
+            self.frames,
+            root_at=self.root_link,
+            root_role="the mount link",
+        )
 
     def mounting(self, name: str) -> Mounting:
         try:
@@ -380,7 +389,8 @@ class ArmDescription:
     """A robot arm.
 
     model_path: URDF file of the arm, as shipped (graspframe/urdf_model.py).
-    base_link: the link fixed to the world.
+    base_link: the link (or added frame) fixed to the world; the model is rooted there
+        whatever link the file is rooted at.
     flange_link: the tool flange link (+z out of the flange); a hand's root link is
         fixed to it. Every link the file has beyond it (a vendor's own gripper) is
         dropped; when it is one of `frames`, everything beyond that frame's parent.
@@ -394,6 +404,9 @@ class ArmDescription:
     name_prefix: put before every link and joint name of the model file (set by
         `with_name_prefix` when a hand mounted on the arm has names of its own arm's);
         every name in this description already includes it.
+    tool_links: links (names as in the model file, without the prefix) whose shapes are
+        the vendor's own tool merged into the arm (the Kinova JACO2's last link carries
+        its gripper's housing): left out, since the mounted hand replaces that tool.
     """
 
     name: str
@@ -407,18 +420,26 @@ class ArmDescription:
     packages: Mapping[str, Path] = field(default_factory=dict)
     frames: Mapping[str, FrameOffset] = field(default_factory=dict)
     name_prefix: str = ""
+    tool_links: tuple[str, ...] = ()
 
     @property
     def joint_names(self) -> tuple[str, ...]:
         return tuple(j.name for j in self.joints)
 
     def urdf(self) -> UrdfModel:
-        """The arm's model as every tool loads it, cut at the flange (read once per
-        process)."""
+        """The arm's model as every tool loads it, rooted at its base, cut at the flange,
+        without its vendor tool's shapes (read once per process)."""
         offset = self.frames.get(self.flange_link)
         cut_below = self.flange_link if offset is None else offset.parent
         return description_model(
-            self.model_path, self.packages, self.frames, cut_below, self.name_prefix
+            self.model_path,
+            self.packages,
+            self.frames,
+            cut_below,
+            self.name_prefix,
+            root_at=self.base_link,
+            root_role="the base link",
+            tool_links=self.tool_links,
         )
 
     def with_name_prefix(self, prefix: str) -> ArmDescription:

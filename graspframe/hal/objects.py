@@ -166,10 +166,15 @@ class ObjectDescription:
 
     def documented_grasps(self) -> tuple[HumanGrasp, ...]:
         """The grasps a person would use on this object: `grasps`, else the grasps it is
-        the default object for (in the order of HumanGrasp)."""
+        the default object for (in the order of HumanGrasp), else the one its measured
+        shape calls for (graspframe/hal/shape_grasps.py, docs/objects.md)."""
         if self.grasps:
             return self.grasps
-        return tuple(g for g in HumanGrasp if g in self.default_for)
+        if self.default_for:
+            return tuple(g for g in HumanGrasp if g in self.default_for)
+        from graspframe.hal.shape_grasps import grasp_from_shape
+
+        return (grasp_from_shape(self)[0],)
 
     @property
     def half_extents(self) -> tuple[float, float, float]:

@@ -10,6 +10,7 @@ Plugin authors import `hookimpl` from here:
 """
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TypeVar
 
 import pluggy
@@ -23,4 +24,19 @@ def hookimpl(function: _F) -> _F:
     return _hookimpl(function)
 
 
-__all__ = ["hookimpl"]
+@dataclass(frozen=True)
+class NotRegistered:
+    """What a register hook found and could not register, and why: give it to
+    `register` in place of the thing (e.g. a scan whose mass nobody gave). The registry
+    keeps it with the plugin, and `graspframe plugins` and `graspframe objects` show it;
+    looking the name up fails with the reason.
+
+    name: the name it would have had; reason: one line saying what is missing and how
+    to give it.
+    """
+
+    name: str
+    reason: str
+
+
+__all__ = ["NotRegistered", "hookimpl"]

@@ -14,7 +14,7 @@ from graspframe.urdf_model import description_model
 
 ARM_KEYS = (
     "kind", "name", "summary", "urdf", "base_link", "flange_link", "home_q", "home_q_deg",
-    "packages", "frames", "joints", "drive",
+    "packages", "frames", "joints", "drive", "tool_links",
 )  # fmt: skip
 
 
@@ -24,7 +24,19 @@ def read_arm(reader: SpecReader, data: Mapping[str, Any]) -> ArmDescription:
     packages, frames = read_packages(reader, data), read_frames(reader, data)
     flange = reader.text(data, "flange_link", "the spec")
     cut_below = frames[flange].parent if flange in frames else flange
-    model = description_model(urdf, packages, frames, cut_below)
+    base_link = reader.text(data, "base_link", "the spec")
+    tool_links = data.get("tool_links", [])
+    if not isinstance(tool_links, list) or not all(isinstance(n, str) for n in tool_links):
+        raise reader.fail("tool_links must be a list of link names")
+    model = description_model(
+        urdf,
+        packages,
+        frames,
+        cut_below,
+        root_at=base_link,
+        root_role="the base link",
+        tool_links=tuple(tool_links),
+    )
     joints, couplings = read_joints(reader, data, model, need_motion_limits=True)
     if couplings:
         raise reader.fail(
@@ -37,10 +49,19 @@ def read_arm(reader: SpecReader, data: Mapping[str, Any]) -> ArmDescription:
     home_q = reader.vector(data[key], len(joints), f"{key} (one per joint)")
     if key == "home_q_deg":
         home_q = tuple(math.radians(v) for v in home_q)
+    for joint, value in zip(joints, home_q, strict=True):
+        if not joint.contains(value):
+            degrees = key == "home_q_deg"
+            unit, scale = ("deg", math.degrees) if degrees else ("rad", float)
+            raise reader.fail(
+                f"{key} puts joint {joint.name!r} at {scale(value):.4g} {unit}, outside its "
+                f"limits [{scale(joint.lower):.4g}, {scale(joint.upper):.4g}] {unit} "
+                "(from the URDF); give a home pose inside every limit"
+            )
     return ArmDescription(
         name=reader.text(data, "name", "the spec"),
         model_path=urdf,
-        base_link=reader.text(data, "base_link", "the spec"),
+        base_link=base_link,
         flange_link=flange,
         joints=joints,
         home_q=home_q,
@@ -48,4 +69,5 @@ def read_arm(reader: SpecReader, data: Mapping[str, Any]) -> ArmDescription:
         summary=str(data.get("summary", "")),
         packages=packages,
         frames=frames,
+        tool_links=tuple(tool_links),
     )

@@ -24,7 +24,8 @@ from graspframe.specs.reader import SpecReader
 from graspframe.urdf_model import description_model
 
 HAND_KEYS = (
-    "kind", "name", "summary", "urdf", "root_link", "palm_frame", "palm_sensor_link", "mass",
+    "kind", "name", "summary", "urdf", "mount_link", "root_link", "palm_frame",
+    "palm_sensor_link", "mass",
     "packages", "frames", "fingers", "fingertips", "joints", "drive", "couplings",
     "preshapes", "grasp_map",
 )  # fmt: skip
@@ -159,13 +160,24 @@ def _couplings(reader: SpecReader, data: Mapping[str, Any]) -> list[Coupling]:
     return couplings
 
 
+def _mount_link(reader: SpecReader, data: Mapping[str, Any]) -> str:
+    """`mount_link` (or its older name `root_link`): the link or added frame bolted to
+    the arm's flange."""
+    if "mount_link" in data and "root_link" in data:
+        raise reader.fail("give mount_link or its older name root_link, not both")
+    key = "root_link" if "root_link" in data else "mount_link"
+    return reader.text(data, key, "the spec")
+
+
 def read_hand(reader: SpecReader, data: Mapping[str, Any]) -> HandDescription:
     reader.keys(data, HAND_KEYS, "the spec")
     urdf = reader.resolve(reader.text(data, "urdf", "the spec"), "urdf")
     packages, frames = read_packages(reader, data), read_frames(reader, data)
-    joints, couplings = read_joints(
-        reader, data, description_model(urdf, packages, frames), need_motion_limits=False
+    mount_link = _mount_link(reader, data)
+    model = description_model(
+        urdf, packages, frames, root_at=mount_link, root_role="the mount link"
     )
+    joints, couplings = read_joints(reader, data, model, need_motion_limits=False)
     couplings += _couplings(reader, data)
     fingers = {
         finger: _links(reader, links, f"[fingers] {finger}")
@@ -185,7 +197,7 @@ def read_hand(reader: SpecReader, data: Mapping[str, Any]) -> HandDescription:
     hand = HandDescription(
         name=reader.text(data, "name", "the spec"),
         model_path=urdf,
-        root_link=reader.text(data, "root_link", "the spec"),
+        root_link=mount_link,
         joints=joints,
         palm_frame=reader.text(data, "palm_frame", "the spec"),
         palm_sensor_link=reader.text(data, "palm_sensor_link", "the spec"),

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Mapping
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -75,15 +76,26 @@ def _joints_of_fingers(hand: HandDescription, model: CollisionModel) -> dict[str
     return joints
 
 
-def closing_configurations(
+class ClosingSweep(NamedTuple):
+    """A preshape closed kinematically: configurations: hand joint values [rad]
+    (followers included) from open to closed; touched: the real fingers (not the palm)
+    that stopped on the object, in the order they touched it; open_inside: the links
+    that lie in the object in the open posture (the approach would push it)."""
+
+    configurations: list[dict[str, float]]
+    touched: tuple[str, ...]
+    open_inside: tuple[str, ...] = ()
+
+
+def closing_sweep(
     hand: HandDescription,
     preshape: HandPreshape,
     obj: ObjectDescription | None = None,
     T_palm_object: NDArray[np.float64] | None = None,
     samples: int = SWEEP_SAMPLES,
-) -> list[dict[str, float]]:
-    """Hand joint values [rad] (followers included) from open to closed; with an object
-    at T_palm_object, each real finger stops where one of its links first touches it."""
+) -> ClosingSweep:
+    """The preshape from open to closed; with an object at T_palm_object, each real
+    finger stops where one of its links first touches it."""
     import coal
 
     model = _collision_model(hand.urdf())
@@ -96,11 +108,14 @@ def closing_configurations(
         T_root_object = model.T_root_frame(hand.palm_frame) @ T_palm_object
         tf_object = coal.Transform3s(T_root_object[:3, :3], T_root_object[:3, 3])
     frozen: dict[str, float] = {}
-    stopped: set[str] = set()
+    stopped: list[str] = []
+    open_inside: list[str] = []
     configurations = []
     previous: dict[str, float] | None = None
     for s in np.linspace(0.0, 1.0, samples):
         q = hand.with_model_followers(_interpolate(preshape, float(s), frozen))
+        if geometries and s == 0.0:
+            open_inside = _links_inside(model, q, geometries, tf_object)
         if geometries and s > 0.0:
             model.place(q)
             touching = set()
@@ -114,15 +129,69 @@ def closing_configurations(
                     if coal.collide(shape, tf, geometry, tf_object, request, result):
                         touching.add(finger)
                         break
-            for finger in touching:
-                stopped.add(finger)
+            for finger in sorted(touching):
+                stopped.append(finger)
                 for name in finger_joints.get(finger, []):
                     frozen[name] = previous[name] if previous else q[name]
             if touching:
                 q = hand.with_model_followers(_interpolate(preshape, float(s), frozen))
         configurations.append(q)
         previous = q
-    return configurations
+    return ClosingSweep(configurations, tuple(stopped), tuple(open_inside))
+
+
+def _links_inside(model: CollisionModel, q: dict[str, float], geometries: list, tf_object) -> list:
+    """The links with a shape in the object (coal collision) at hand joints q."""
+    import coal
+
+    model.place(q)
+    inside: list[str] = []
+    for link, shape, T_root_shape in model.shapes():
+        if link in inside:
+            continue
+        tf = coal.Transform3s(T_root_shape[:3, :3], T_root_shape[:3, 3])
+        for geometry in geometries:
+            if coal.collide(
+                shape, tf, geometry, tf_object, coal.CollisionRequest(), coal.CollisionResult()
+            ):
+                inside.append(link)
+                break
+    return inside
+
+
+def closing_configurations(
+    hand: HandDescription,
+    preshape: HandPreshape,
+    obj: ObjectDescription | None = None,
+    T_palm_object: NDArray[np.float64] | None = None,
+    samples: int = SWEEP_SAMPLES,
+) -> list[dict[str, float]]:
+    """Hand joint values [rad] (followers included) from open to closed; with an object
+    at T_palm_object, each real finger stops where one of its links first touches it."""
+    return closing_sweep(hand, preshape, obj, T_palm_object, samples).configurations
+
+
+def lowest_points(
+    hand: HandDescription,
+    configurations: list[dict[str, float]],
+    R_world_palm: NDArray[np.float64],
+) -> dict[str, float]:
+    """link -> [m] the lowest world height of its shapes over the configurations,
+    relative to the palm origin (negative: below it), the palm turned by R_world_palm."""
+    model = _collision_model(hand.urdf())
+    lowest: dict[str, float] = {}
+    for q in configurations:
+        model.place(q)
+        T_palm_root = inv_T(model.T_root_frame(hand.palm_frame))
+        for link, shape, T_root_shape in model.shapes():
+            points_palm = shape_points(shape, T_palm_root @ T_root_shape)
+            if type(shape).__name__ == "Sphere":  # lowest point of a sphere is exact
+                centre_world_z = float((R_world_palm @ points_palm.mean(axis=0))[2])
+                height = centre_world_z - shape.radius
+            else:
+                height = float((points_palm @ R_world_palm.T)[:, 2].min())
+            lowest[link] = min(lowest.get(link, np.inf), height)
+    return lowest
 
 
 def lowest_hand_point(
@@ -132,16 +201,24 @@ def lowest_hand_point(
 ) -> float:
     """[m] the lowest world height of any hand shape over the configurations, relative
     to the palm origin (negative: below it), with the palm turned by R_world_palm."""
+    return float(min(lowest_points(hand, configurations, R_world_palm).values()))
+
+
+def fingertip_links(hand: HandDescription) -> dict[str, str]:
+    """real finger (not the palm) -> its fingertip: its shaped link furthest down the
+    kinematic chain."""
     model = _collision_model(hand.urdf())
-    lowest = np.inf
-    for q in configurations:
-        model.place(q)
-        T_palm_root = inv_T(model.T_root_frame(hand.palm_frame))
-        for _link, shape, T_root_shape in model.shapes():
-            points_palm = shape_points(shape, T_palm_root @ T_root_shape)
-            if type(shape).__name__ == "Sphere":  # lowest point of a sphere is exact
-                centre_world_z = float((R_world_palm @ points_palm.mean(axis=0))[2])
-                lowest = min(lowest, centre_world_z - shape.radius)
-                continue
-            lowest = min(lowest, float((points_palm @ R_world_palm.T)[:, 2].min()))
-    return float(lowest)
+    shaped = {link for link, _shape, _T in model.shapes()}
+
+    def depth(link: str) -> int:
+        n, parent = 0, model.parent_link(link)
+        while parent is not None:
+            n, parent = n + 1, model.parent_link(parent)
+        return n
+
+    tips = {}
+    for finger, links in hand.real_fingers.items():
+        candidates = [link for link in links if link in shaped]
+        if finger != PALM and candidates:
+            tips[finger] = max(candidates, key=depth)
+    return tips

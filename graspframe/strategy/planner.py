@@ -27,6 +27,19 @@ Choices the method leaves open (see docs/method.md; the settings in quotes are
   hand (palm included), in the goal orientation, over the closing motion (each finger
   stopping at the object), sets the lowest allowed palm height; the goal is raised to it
   and the volar correction loop never goes below it.
+- When that raise lifts the fingers off the object (a long thumb over a thin disc: the
+  kinematic closing at the raised goal brings fewer than two real fingers onto it, and
+  fewer than it would with no table in the way), the planner tries the ways that keep
+  them on it, in order (`REACH_ALTERNATIVES`, `Reach`): a lower goal with only the
+  fingertips kept off the table (they may come down to it, as a person's slide on the
+  table under a thin object), the palm tilted by 15 or 30 deg about its x or y axis
+  (the long finger's side up), then rolled about its normal by 90, 180 or 270 deg (the
+  long finger on the far side). The first that brings every finger the closing would
+  bring with no table in the way onto the object, its open hand at the goal clear of
+  the object (so the approach does not push it), is planned (`GraspPlan.reach` says
+  which); when none does, the grasp is refused in one line: the link that sets the
+  raise, how far below the palm it reaches, how far the hand was raised and how tall
+  the object is.
 - Alternatives for a collision-free arm path (graspframe/strategy/arm_path.py): the
   grasp may be turned about the object's vertical axis when the object is symmetric
   about it (yaw), moved up along an upright object's axis (raise), and the via pose may
@@ -43,10 +56,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.errors import GraspframeError
-from graspframe.grasps import HumanGrasp
+from graspframe.grasps import PALM, HumanGrasp
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.objects import ObjectDescription
-from graspframe.strategy.hand_geometry import closing_configurations, lowest_hand_point
+from graspframe.strategy.hand_geometry import closing_sweep, fingertip_links, lowest_points
 from graspframe.transforms import as_pose, inv_T, make_T
 
 MAX_RAISE_ITERATIONS = 5
@@ -94,6 +107,51 @@ class Variant:
 
 
 @dataclass(frozen=True)
+class Reach:
+    """A way of keeping the fingers on an object the table raise would lift them off.
+
+    fingertips_to_table: only the fingertips (each real finger's last shaped link) may
+        come down to the table itself; the rest of the hand stays `table_clearance`
+        above it. tilt_axis, tilt_deg: the palm turned about its own x or y axis [deg];
+        roll_deg: turned about its normal [deg] (both about the grasp point).
+    """
+
+    fingertips_to_table: bool = False
+    tilt_axis: str = "y"
+    tilt_deg: float = 0.0
+    roll_deg: float = 0.0
+
+    def describe(self) -> str:
+        """In words; empty for the plan as the human grasp has it."""
+        parts = []
+        if self.fingertips_to_table:
+            parts.append("only the fingertips kept off the table")
+        if self.tilt_deg:
+            parts.append(f"palm tilted {self.tilt_deg:+.0f} deg about its {self.tilt_axis}")
+        if self.roll_deg:
+            parts.append(f"palm rolled {self.roll_deg:+.0f} deg about its normal")
+        return ", ".join(parts)
+
+    def R_palm_turned(self) -> NDArray[np.float64]:
+        """The turn of the palm frame (in the palm frame)."""
+        tilt = math.radians(self.tilt_deg)
+        R_tilt = _Rx(tilt) if self.tilt_axis == "x" else _Ry(tilt)
+        return R_tilt @ _Rz(math.radians(self.roll_deg))
+
+
+REACH_ALTERNATIVES = (
+    Reach(fingertips_to_table=True),
+    *(
+        Reach(fingertips_to_table=True, tilt_axis=axis, tilt_deg=tilt)
+        for axis in ("y", "x")
+        for tilt in (15.0, -15.0, 30.0, -30.0)
+    ),
+    *(Reach(fingertips_to_table=True, roll_deg=roll) for roll in (90.0, 180.0, 270.0)),
+)
+MIN_FINGERS_ON_OBJECT = 2  # real fingers on the object below which a raise is costly
+
+
+@dataclass(frozen=True)
 class GraspPlan:
     """A robot grasp to execute, in the world frame of the robot's belief.
 
@@ -113,6 +171,14 @@ class GraspPlan:
         `table_clearance` above the table (the correction loop stays above it).
     R_object_symmetry: rotation of the object frame that the variant's yaw used (the
         object looks the same after it); the score turns robot contacts back by it.
+    lowest_link: the hand link whose lowest point set `min_goal_height`;
+        lowest_below_palm: [m] how far below the palm origin it reaches at the goal.
+    reach: how the plan keeps the fingers on the object when the table raise would
+        lift them off it (`Reach.describe`; empty: as the human grasp has it).
+    fingers_on_object: the real fingers the kinematic closing at the goal brings onto
+        the object; fingers_without_table: those it would bring with no table in the
+        way (the goal not raised); open_inside_object: the hand links inside the object
+        in the open posture at the goal (an approach that would push it).
     """
 
     hand: str
@@ -134,6 +200,12 @@ class GraspPlan:
     variant: Variant = field(default_factory=Variant)
     R_object_symmetry: NDArray[np.float64] = field(default_factory=lambda: np.eye(3))
     volar_gap: float = 0.0
+    lowest_link: str = ""
+    lowest_below_palm: float = 0.0
+    reach: str = ""
+    fingers_on_object: tuple[str, ...] = ()
+    fingers_without_table: tuple[str, ...] = ()
+    open_inside_object: tuple[str, ...] = ()
 
     @property
     def pre_approach_distance(self) -> float:
@@ -211,60 +283,142 @@ def plan_grasp(
     if variant.yaw_deg and not obj.symmetric_about_z:
         raise PlanningError(f"a {obj.shape} is not symmetric about its axis: no yaw variant")
     preshape = hand.preshape_for(grasp)
-    volar = grasp.volar_for_robot
 
     R_object_symmetry = _Rz(math.radians(variant.yaw_deg))
     R_object_palm = R_object_symmetry @ T_object_human_palm[:3, :3] @ _Rz(preshape.roll)
-    p_palm_object = object_in_palm(preshape, obj, R_object_palm, volar, params.palm_clearance)
-    volar_gap = p_palm_object[2] - obj.extent_along(-R_object_palm[:, 2]) if volar else 0.0
-    if variant.raise_along_axis:
-        # The hand higher up the object = the object lower in the palm frame.
-        p_palm_object = p_palm_object - variant.raise_along_axis * (R_object_palm.T @ [0, 0, 1])
-    T_object_palm = make_T(R_object_palm, -R_object_palm @ p_palm_object)
-    T_goal = T_world_object_est @ T_object_palm
-    approach, a = approach_direction(T_goal[:3, :3], params)
-
-    # Raising the goal moves the object in the palm frame, and with it where the fingers
-    # stop on it: repeat until the lowest point of the closing hand settles.
-    table_raise = 0.0
-    for _ in range(MAX_RAISE_ITERATIONS):
-        configurations = closing_configurations(hand, preshape, obj, inv_T(T_object_palm))
-        lowest = lowest_hand_point(hand, configurations, T_goal[:3, :3])
-        min_goal_height = table_height + params.table_clearance - lowest
-        step = max(0.0, min_goal_height - T_goal[2, 3])
-        T_goal[2, 3] += step
-        table_raise += step
-        T_object_palm = inv_T(T_world_object_est) @ T_goal
-        if step < RAISE_TOLERANCE:
-            break
-    T_pre = T_goal.copy()
-    T_pre[:3, 3] -= params.pre_approach_distance * a
-    T_via = T_pre.copy()
-    if approach == "side":
-        T_via[2, 3] += params.side_via_rise if variant.via_rise is None else variant.via_rise
-    return GraspPlan(
-        hand=hand.name,
-        grasp=grasp,
-        preshape=preshape.name,
-        volar=volar,
-        approach=approach,
-        a_world=a,
-        T_object_human_palm=T_object_human_palm,
-        T_object_palm=T_object_palm,
-        p_palm_object=inv_T(T_object_palm)[:3, 3],
-        T_world_object_est=T_world_object_est,
-        T_world_palm_goal=T_goal,
-        T_world_palm_pre=T_pre,
-        T_world_palm_via=T_via,
-        standoff=float(inv_T(T_object_palm)[2, 3]),
-        table_raise=table_raise,
-        min_goal_height=min_goal_height,
-        variant=variant,
-        R_object_symmetry=R_object_symmetry,
-        volar_gap=float(volar_gap),
+    goal = _GoalProblem(
+        grasp, T_object_human_palm, T_world_object_est, hand, preshape, obj, table_height,
+        params, variant, R_object_symmetry,
+    )  # fmt: skip
+    plan = goal.plan(R_object_palm, Reach())
+    needed = min(MIN_FINGERS_ON_OBJECT, sum(f != PALM for f in hand.real_fingers))
+    reached = len(plan.fingers_on_object)
+    if reached >= needed or reached >= len(plan.fingers_without_table):
+        return plan  # enough fingers reach the object, or the raise cost none
+    for reach in REACH_ALTERNATIVES:
+        try:
+            alternative = goal.plan(R_object_palm @ reach.R_palm_turned(), reach)
+        except PlanningError:
+            continue  # turned so the palm faces up: no approach
+        brings = set(alternative.fingers_on_object)
+        if brings >= set(plan.fingers_without_table) and not alternative.open_inside_object:
+            return alternative
+    reaching = ", ".join(plan.fingers_on_object) or "no finger"
+    raise PlanningError(
+        f"keeping the {hand.name} hand {1000 * params.table_clearance:.0f} mm above the table "
+        f"raises it {1000 * plan.table_raise:.0f} mm (its link {plan.lowest_link!r} reaches "
+        f"{1000 * plan.lowest_below_palm:.0f} mm below the palm), where only {reaching} "
+        f"reaches the {1000 * 2 * obj.half_height:.0f} mm tall {obj.name} (with no table in "
+        f"the way: {', '.join(plan.fingers_without_table)}); neither a lower goal with only "
+        "the fingertips off the table nor the palm tilted (15, 30 deg) or rolled (90, 180, "
+        "270 deg) brings them all onto it"
     )
+
+
+@dataclass(frozen=True)
+class _GoalProblem:
+    """One grasp goal to place: the values every palm orientation tried shares."""
+
+    grasp: HumanGrasp
+    T_object_human_palm: NDArray[np.float64]
+    T_world_object_est: NDArray[np.float64]
+    hand: HandDescription
+    preshape: HandPreshape
+    obj: ObjectDescription
+    table_height: float
+    params: PlannerParams
+    variant: Variant
+    R_object_symmetry: NDArray[np.float64]
+
+    def plan(self, R_object_palm: NDArray[np.float64], reach: Reach) -> GraspPlan:
+        """The plan with the palm at R_object_palm, raised off the table (with `reach`'s
+        clearance rule)."""
+        hand, preshape, obj, params = self.hand, self.preshape, self.obj, self.params
+        volar = self.grasp.volar_for_robot
+        p_palm_object = object_in_palm(preshape, obj, R_object_palm, volar, params.palm_clearance)
+        volar_gap = p_palm_object[2] - obj.extent_along(-R_object_palm[:, 2]) if volar else 0.0
+        if self.variant.raise_along_axis:
+            # The hand higher up the object = the object lower in the palm frame.
+            up_palm = R_object_palm.T @ [0, 0, 1]
+            p_palm_object = p_palm_object - self.variant.raise_along_axis * up_palm
+        T_object_palm = make_T(R_object_palm, -R_object_palm @ p_palm_object)
+        T_goal = self.T_world_object_est @ T_object_palm
+        approach, a = approach_direction(T_goal[:3, :3], params)
+        clearance = _clearances(hand, params.table_clearance, reach.fingertips_to_table)
+
+        # Raising the goal moves the object in the palm frame, and with it where the
+        # fingers stop on it: repeat until the lowest point of the closing hand settles.
+        table_raise = 0.0
+        unraised: tuple[str, ...] = ()
+        for iteration in range(MAX_RAISE_ITERATIONS):
+            sweep = closing_sweep(hand, preshape, obj, inv_T(T_object_palm))
+            unraised = sweep.touched if iteration == 0 else unraised
+            lowest = lowest_points(hand, sweep.configurations, T_goal[:3, :3])
+            lowest_link = max(lowest, key=lambda link: clearance(link) - lowest[link])
+            min_goal_height = self.table_height + clearance(lowest_link) - lowest[lowest_link]
+            step = max(0.0, min_goal_height - T_goal[2, 3])
+            T_goal[2, 3] += step
+            table_raise += step
+            T_object_palm = inv_T(self.T_world_object_est) @ T_goal
+            if step < RAISE_TOLERANCE:
+                break
+        if table_raise > RAISE_TOLERANCE:  # where the fingers stop at the raised goal
+            sweep = closing_sweep(hand, preshape, obj, inv_T(T_object_palm))
+        T_pre = T_goal.copy()
+        T_pre[:3, 3] -= params.pre_approach_distance * a
+        T_via = T_pre.copy()
+        if approach == "side":
+            rise = params.side_via_rise if self.variant.via_rise is None else self.variant.via_rise
+            T_via[2, 3] += rise
+        return GraspPlan(
+            hand=hand.name,
+            grasp=self.grasp,
+            preshape=preshape.name,
+            volar=volar,
+            approach=approach,
+            a_world=a,
+            T_object_human_palm=self.T_object_human_palm,
+            T_object_palm=T_object_palm,
+            p_palm_object=inv_T(T_object_palm)[:3, 3],
+            T_world_object_est=self.T_world_object_est,
+            T_world_palm_goal=T_goal,
+            T_world_palm_pre=T_pre,
+            T_world_palm_via=T_via,
+            standoff=float(inv_T(T_object_palm)[2, 3]),
+            table_raise=table_raise,
+            min_goal_height=min_goal_height,
+            variant=self.variant,
+            R_object_symmetry=self.R_object_symmetry,
+            volar_gap=float(volar_gap),
+            lowest_link=lowest_link,
+            lowest_below_palm=-float(lowest[lowest_link]),
+            reach=reach.describe(),
+            fingers_on_object=sweep.touched,
+            fingers_without_table=unraised,
+            open_inside_object=sweep.open_inside,
+        )
+
+
+def _clearances(hand: HandDescription, table_clearance: float, fingertips_to_table: bool):
+    """link -> [m] how far above the table it must stay at the goal."""
+    tips = set(fingertip_links(hand).values()) if fingertips_to_table else set()
+
+    def clearance(link: str) -> float:
+        return 0.0 if link in tips else table_clearance
+
+    return clearance
 
 
 def _Rz(angle: float) -> NDArray[np.float64]:
     c, s = math.cos(angle), math.sin(angle)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _Rx(angle: float) -> NDArray[np.float64]:
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def _Ry(angle: float) -> NDArray[np.float64]:
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])

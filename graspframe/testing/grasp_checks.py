@@ -20,11 +20,12 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable, Iterable
-from dataclasses import dataclass
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import NDArray
 
 from graspframe.defaults import DISTURBANCE_FRACTION
 from graspframe.grasps import PALM, HumanGrasp
@@ -179,26 +180,35 @@ def hand_alone_grasp(
     return _hand_alone(hand, grasp, backend, obj, disturb)[0]
 
 
+def _design_placement(preshape: HandPreshape) -> NDArray[np.float64]:
+    """T_object_palm holding the preshape's design object where it lies in the palm."""
+    assert preshape.design_object is not None
+    R = R_object_palm_for_design(preshape.design_object)
+    return make_T(R, -R @ np.asarray(preshape.grasp_center_palm))
+
+
 def _hand_alone(
     hand: HandDescription,
     grasp: HumanGrasp,
     backend: Backend,
     obj: ObjectDescription | None = None,
     disturb: bool = True,
+    T_object_palm: NDArray[np.float64] | None = None,
 ) -> tuple[GraspOutcome, tuple[Moment, ...], CheckedPlan]:
     """(the outcome, its moments, the CheckedPlan on the floating base) of
-    `hand_alone_grasp`."""
+    `hand_alone_grasp`; T_object_palm: the human palm on the object (default: the
+    preshape's design object where it lies in the palm)."""
     from graspframe.strategy.arm_path import floating_plan
     from graspframe.strategy.execution import execute
     from graspframe.strategy.held_test import HeldTest
     from graspframe.strategy.method import MethodStrategy
 
     preshape = hand.preshape_for(grasp)
-    if preshape.design_object is None:
-        raise ValueError(f"preshape {preshape.name!r} declares no design object")
+    if T_object_palm is None:
+        if preshape.design_object is None:
+            raise ValueError(f"preshape {preshape.name!r} declares no design object")
+        T_object_palm = _design_placement(preshape)
     obj = obj or design_object(preshape)
-    R = R_object_palm_for_design(preshape.design_object)
-    T_object_palm = make_T(R, -R @ np.asarray(preshape.grasp_center_palm))
     T_world_object = make_T(p=[0.0, 0.0, obj.half_height])
     checked = floating_plan(grasp, T_object_palm, T_world_object, hand, obj, 0.0)
     config = WorldConfig(
@@ -214,12 +224,23 @@ def _hand_alone(
 
 
 @dataclass(frozen=True)
+class ExperimentObjects:
+    """What experiment A grasps with the hand alone: `human`, the human hand whose
+    postures place the palm on each object (the reference placement of a run with
+    --grasp), and `objects`, each human grasp's object (its default object)."""
+
+    human: HandDescription
+    objects: Mapping[HumanGrasp, ObjectDescription]
+
+
+@dataclass(frozen=True)
 class HoldTrial:
     """The hand alone grasping a preshape's design object: what was grasped, the real
     fingers meant to touch it (its opposed pairs', else every finger), what happened
     (`outcome`), and for pictures its moments (`moments`) and
     the plan on the floating base it ran (`checked`: a CheckedPlan; None when no plan
-    was found)."""
+    was found). experiment: the trial grasps experiment A's object for its human grasp,
+    placed by the human reference, instead of the preshape's design object."""
 
     grasp: HumanGrasp
     preshape: str
@@ -228,6 +249,7 @@ class HoldTrial:
     outcome: GraspOutcome
     moments: tuple[Moment, ...]
     checked: CheckedPlan | None
+    experiment: bool = False  # experiment A's object for the grasp, not the design object
 
     @property
     def held(self) -> bool:
@@ -239,16 +261,19 @@ def hold_trials(
     backend: Backend,
     progress: Callable[[str], None] = lambda _message: None,
     keep_unplanned: bool = False,
+    experiment: ExperimentObjects | None = None,
 ) -> list[HoldTrial]:
     """One hand-alone grasp of its design object per preshape and volar/non-volar use of
-    it (in the order of the grasp map); `progress` hears of each trial as it starts.
+    it (in the order of the grasp map), then, with `experiment`, one per human grasp on
+    its experiment A object (every grasp a preshape serves); `progress` hears of each
+    trial as it starts.
 
     keep_unplanned: a grasp the planner finds no plan for is a trial that was not held
     (aborted, no moments, no plan) instead of the PlanningError it raises by default.
     """
     from graspframe.strategy.planner import PlanningError
 
-    trials = []
+    runs: list[tuple[HumanGrasp, ObjectDescription, NDArray[np.float64] | None]] = []
     tried = set()
     for grasp, preshape_name in hand.grasp_map.items():
         preshape = hand.preshape(preshape_name)
@@ -256,17 +281,33 @@ def hold_trials(
         if key in tried or preshape.design_object is None:
             continue
         tried.add(key)
-        obj = design_object(preshape)
-        progress(f"{preshape_name} ({grasp.value}): the hand alone on its design object")
+        runs.append((grasp, design_object(preshape), None))
+    if experiment is not None:
+        from graspframe.strategy.reference_poses import reference_placement
+
+        for grasp in hand.grasp_map:
+            obj = experiment.objects[grasp]
+            human_palm = reference_placement(obj, experiment.human.preshape_for(grasp))
+            runs.append((grasp, obj, human_palm.T_object_palm))
+    trials = []
+    for grasp, obj, T_object_palm in runs:
+        preshape_name = hand.grasp_map[grasp]
+        preshape = hand.preshape(preshape_name)
+        on = "its design object" if T_object_palm is None else f"experiment A's {obj.name}"
+        progress(f"{preshape_name} ({grasp.value}): the hand alone on {on}")
         try:
-            outcome, moments, checked = _hand_alone(hand, grasp, backend, obj)
+            outcome, moments, checked = _hand_alone(
+                hand, grasp, backend, obj, T_object_palm=T_object_palm
+            )
         except PlanningError as exc:
             if not keep_unplanned:
                 raise
             outcome, moments, checked = _unplanned(obj, str(exc)), (), None
         fingers = {f for pair in preshape.opposed for f in pair} or set(hand.real_fingers)
         meant = tuple(f for f in hand.real_fingers if f in fingers and f != PALM)
-        trials.append(HoldTrial(grasp, preshape_name, obj, meant, outcome, moments, checked))
+        experiment_trial = T_object_palm is not None
+        trial = HoldTrial(grasp, preshape_name, obj, meant, outcome, moments, checked)
+        trials.append(replace(trial, experiment=experiment_trial))
     return trials
 
 

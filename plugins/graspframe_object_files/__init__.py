@@ -1,0 +1,1 @@
+"""Objects from mesh files with sidecars (GRASPFRAME_OBJECTS)."""
