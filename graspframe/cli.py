@@ -10,7 +10,6 @@ grasp held), 1 an error, 2 a wrong command line, 3 `run` ran but the grasp was n
 
 from __future__ import annotations
 
-import json
 import logging
 import sys
 import traceback
@@ -20,7 +19,6 @@ from typing import Annotated
 import typer
 from rich.console import Console
 from rich.markup import escape
-from rich.table import Table
 
 from graspframe import __version__
 from graspframe.commands.plugin_commands import WithPluginCommands
@@ -89,53 +87,10 @@ def plugins(
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")] = False,
 ) -> None:
     """List the plugins: name, package and version, load status, what each provides."""
+    from graspframe.commands.listing import print_plugins
     from graspframe.registry import default_registry
 
-    registry = default_registry()
-    if as_json:
-        rows = [
-            {
-                "plugin": p.name,
-                "module": p.module,
-                "package": p.package,
-                "version": p.version,
-                "status": p.status,
-                "provides": [{"kind": kind, "name": name} for kind, name in p.provides],
-                "not_registered": [
-                    {"kind": kind, "name": name, "reason": reason}
-                    for kind, name, reason in p.not_registered
-                ],
-                "error": p.error,
-            }
-            for p in registry.plugins
-        ]
-        print(json.dumps(rows, indent=2))
-        return
-    table = Table(title="graspframe plugins", show_lines=False)
-    for column in ("plugin", "package", "version", "status", "provides / error"):
-        table.add_column(column)
-    for info in registry.plugins:
-        if info.status == "loaded":
-            provided = ", ".join(f"{kind} {name}" for kind, name in info.provides) or "-"
-            if info.not_registered:
-                count = len(info.not_registered)
-                provided += f"; found and not registered: {count} (graspframe objects: why)"
-            status = "[green]loaded[/green]"
-        else:
-            provided = info.error or ""
-            status = f"[red]{info.status}[/red]" if info.status == "failed" else info.status
-        table.add_row(info.name, info.package, info.version, status, provided)
-    console.print(table)
-    failed = registry.failures
-    if failed:
-        console.print(
-            f"{len(failed)} plugin(s) failed to load; the others work. "
-            "Run with --details for tracebacks, or set GRASPFRAME_STRICT_PLUGINS=1 to stop "
-            "at the first failure."
-        )
-        if details:
-            for info in failed:
-                console.print(f"\n[bold]{info.name}[/bold] ({info.package})\n{info.details}")
+    print_plugins(default_registry(), console, details, as_json)
 
 
 @app.command()
@@ -144,36 +99,10 @@ def objects(
 ) -> None:
     """List the objects: source, mass, size, the grasps a person would use; and what the
     object sources found and could not register, with why."""
-    from dataclasses import asdict
-
-    from graspframe.commands.objects import object_rows
+    from graspframe.commands.listing import print_objects
     from graspframe.registry import default_registry
 
-    rows, unregistered = object_rows(default_registry())
-    if as_json:
-        document = {
-            "objects": [asdict(row) for row in rows],
-            "not_registered": [
-                {"name": name, "plugin": plugin, "reason": reason}
-                for name, plugin, reason in unregistered
-            ],
-        }
-        print(json.dumps(document, indent=2))
-        return
-    table = Table(title="graspframe objects")
-    for column in ("object", "plugin", "shape", "mass g", "size mm (x, y, z)", "grasps"):
-        table.add_column(column)
-    for row in rows:
-        size = " x ".join(f"{v:g}" for v in row.size_mm)
-        grasps = ", ".join(row.grasps)
-        if row.grasps_from != "given":
-            grasps += f" ({row.grasps_from})"
-        table.add_row(row.name, row.plugin, row.shape, f"{row.mass_g:g}", size, escape(grasps))
-    console.print(table)
-    if unregistered:
-        console.print(f"{len(unregistered)} object(s) found but not registered:")
-        for name, plugin, reason in unregistered:
-            console.print(f"  {name} ({plugin}): {escape(reason)}")
+    print_objects(default_registry(), console, as_json)
 
 
 def _parse_error_mm(text: str) -> tuple[float, float]:

@@ -153,6 +153,7 @@ PLAN_DONE = EventKind(
         ),
         PayloadField("fingers_without_table", "... and those it would with no table in the way"),
         PayloadField("open_inside_object", "hand links inside the object, open, at the goal"),
+        PayloadField("lowest_touch_height", "[m] the lowest finger touch above the centroid"),
         PayloadField("variants_refused", "the variants refused before this one, with reasons"),
     ),
 )

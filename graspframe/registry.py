@@ -33,13 +33,12 @@ from graspframe.errors import OutputError, PluginError, UnknownNameError
 from graspframe.events import RunEvent, RunInfo
 from graspframe.grasps import HumanGrasp
 from graspframe.hal.classifier import Classifier
-from graspframe.hal.commands import PluginCommand
 from graspframe.hal.depth_camera import DepthCamera
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.drivers import Backend
 from graspframe.hal.objects import ObjectDescription
-from graspframe.hal.viewer import Viewer
 from graspframe.plugins import NotRegistered, hookspecs
+from graspframe.plugins.kinds import KINDS, Kind
 from graspframe.specs import is_spec_path, load_spec
 from graspframe.specs.objects import is_object_path, load_object_file
 
@@ -50,71 +49,6 @@ STRICT_ENV = "GRASPFRAME_STRICT_PLUGINS"
 DISABLE_ENV = "GRASPFRAME_DISABLE_PLUGINS"
 # Comma-separated names a plugin may take over from another package (e.g. "hand:barrett").
 ALLOW_OVERRIDE_ENV = "GRASPFRAME_ALLOW_OVERRIDE"
-
-
-@dataclass(frozen=True)
-class _Kind:
-    """A kind of registrable thing: the hook that registers it and how to validate it."""
-
-    name: str
-    hook: str
-    accepts: Callable[[Any], bool]
-    expected: str
-
-
-KINDS: dict[str, _Kind] = {
-    k.name: k
-    for k in (
-        _Kind(
-            "hand",
-            "graspframe_register_hands",
-            lambda x: isinstance(x, HandDescription),
-            "a HandDescription",
-        ),
-        _Kind(
-            "arm",
-            "graspframe_register_arms",
-            lambda x: isinstance(x, ArmDescription),
-            "an ArmDescription",
-        ),
-        _Kind(
-            "backend",
-            "graspframe_register_backends",
-            lambda x: isinstance(x, type) and issubclass(x, Backend),
-            "a Backend subclass",
-        ),
-        _Kind(
-            "classifier",
-            "graspframe_register_classifiers",
-            lambda x: isinstance(x, type) and issubclass(x, Classifier),
-            "a Classifier subclass",
-        ),
-        _Kind(
-            "object",
-            "graspframe_register_objects",
-            lambda x: isinstance(x, ObjectDescription),
-            "an ObjectDescription",
-        ),
-        _Kind(
-            "camera",
-            "graspframe_register_cameras",
-            lambda x: isinstance(x, type) and issubclass(x, DepthCamera),
-            "a DepthCamera subclass",
-        ),
-        _Kind(
-            "viewer",
-            "graspframe_register_viewers",
-            lambda x: isinstance(x, type) and issubclass(x, Viewer),
-            "a Viewer subclass",
-        ),
-        _Kind(
-            "command",
-            "graspframe_register_commands",
-            lambda x: isinstance(x, PluginCommand),
-            "a PluginCommand",
-        ),
-    )
-}
 
 
 @dataclass(frozen=True)
@@ -255,7 +189,7 @@ class Registry:
 
     def _stager(
         self,
-        kind: _Kind,
+        kind: Kind,
         info: PluginInfo,
         staged: list[Entry],
         skipped: list[tuple[str, str, str]],
@@ -354,7 +288,8 @@ class Registry:
         """The registered object `name`, or the object of a mesh file with its sidecar
         (or of the sidecar file itself, graspframe/specs/objects.py)."""
         if is_object_path(name):
-            return _load_object_file(str(Path(name).expanduser().resolve()))
+            # absolute, not resolved: a symlinked mesh keeps the sidecar beside the link
+            return _load_object_file(str(Path(name).expanduser().absolute()))
         return self.entry("object", name).item
 
     def get_camera(self, name: str) -> type[DepthCamera]:

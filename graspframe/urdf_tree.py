@@ -62,12 +62,6 @@ def drop_links(robot: ET.Element, links: set[str]) -> None:
             robot.remove(element)
 
 
-def root_links(robot: ET.Element) -> list[str]:
-    """The links no joint hangs from another (one, in a valid model)."""
-    children = {_ends(joint)[1] for joint in robot.findall("joint")}
-    return [e.get("name", "") for e in robot.findall("link") if e.get("name") not in children]
-
-
 def reroot(robot: ET.Element, link: str, what: str, role: str) -> None:
     """Make `link` the root of the tree, turning round every joint between it and the
     current root (see the module docstring). `role` says what the link is for

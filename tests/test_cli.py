@@ -60,9 +60,13 @@ def test_check_hand_passes_on_a_builtin_hand(capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)  # its pictures go to runs/check-hand/barrett
     assert main(["check-hand", "barrett"]) == 0
     out = capsys.readouterr().out
-    assert "hand barrett: 3 of 3 checks ran, all passed" in out and "3 of 3 held" in out
-    # One picture per preshape closed without physics, one per hold trial.
-    assert len(list((tmp_path / "runs" / "check-hand" / "barrett").glob("*.png"))) == 6
+    assert "hand barrett: 5 of 5 checks ran, all passed" in out and "3 of 3 held" in out
+    assert "3. mounted on kuka: no hand link inside an arm link" in out
+    assert "5. the hand alone holds experiment A's object for every human grasp" in out
+    assert "6 of 6 held" in out
+    # One picture per preshape closed without physics, one per hold trial (3 on the
+    # design objects, 6 on experiment A's).
+    assert len(list((tmp_path / "runs" / "check-hand" / "barrett").glob("*.png"))) == 12
 
 
 def test_run_refuses_a_grasp_and_an_image_together(capsys, tmp_path):

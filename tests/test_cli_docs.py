@@ -20,7 +20,8 @@ COMMANDS = [
 
 def test_the_page_shows_every_command():
     shown = {args[1] for args in COMMANDS}
-    assert shown == {"run", "classify", "evaluate", "plugins", "check-hand", "review", "db"}
+    shown_expected = {"run", "classify", "evaluate", "plugins", "objects", "check-hand", "review"}
+    assert shown == {*shown_expected, "db"}
 
 
 @pytest.mark.slow
@@ -34,6 +35,8 @@ def test_documented_command_runs(args, tmp_path, monkeypatch, request):
         request.getfixturevalue("leap_hand_dir")  # the vendor files, or skip
     if "panda.toml" in command:
         request.getfixturevalue("panda_description_dir")
+    if "kinova_jaco2.toml" in command:
+        request.getfixturevalue("kinova_description_dir")
     if args[1] == "review":
         assert main(["run", "--hand", "barrett", "--grasp", "pinch", "--out", "runs"]) == 0
         (run_dir,) = (tmp_path / "runs").iterdir()

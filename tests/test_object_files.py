@@ -118,6 +118,14 @@ def test_the_grasp_follows_from_the_shape(obj, grasp):
     assert obj.documented_grasps() == (grasp,)  # nothing given: the rule decides
 
 
+def test_the_rule_gives_five_default_objects_their_own_grasp():
+    registry = Registry.from_entry_points()
+    defaults = {grasp: registry.default_object_for(grasp) for grasp in HumanGrasp}
+    by_shape = {grasp: grasp_from_shape(obj)[0] for grasp, obj in defaults.items()}
+    assert [g for g, chosen in by_shape.items() if chosen != g] == [HumanGrasp.ABDUCTED_THUMB]
+    assert by_shape[HumanGrasp.ABDUCTED_THUMB] == HumanGrasp.LARGE_DIAMETER
+
+
 def _folder_of_scans(root: Path) -> Path:
     _can(root / "kitchen" / "tin.obj")
     (root / "kitchen" / "tin.toml").write_text("mass = 0.3\n")
@@ -153,14 +161,14 @@ def test_a_folder_of_scans_registers_each_sidecar_and_says_what_it_could_not(
     assert "has no sidecar spare.toml beside it" in skipped["spare"]
     assert "no mass: set mass = <kg>" in skipped["heavy"]
     assert "are both named 'tin'" in skipped["tin"]
-    with pytest.raises(UnknownNameError, match="object 'heavy' is not registered: .*no mass"):
+    with pytest.raises(UnknownNameError, match=r"object 'heavy' is not registered: .*no mass"):
         registry.get_object("heavy")
 
     assert main(["objects", "--json"]) == 0
     listing = json.loads(capsys.readouterr().out)
     rows = {row["name"]: row for row in listing["objects"]}
     assert rows["ball"]["plugin"] == "object_files" and rows["ball"]["mass_g"] == 60.0
-    assert rows["ball"]["size_mm"] == pytest.approx([80, 80, 80], abs=1.0)
+    assert rows["ball"]["size_mm"] == pytest.approx([80, 80, 80], abs=2.0)
     assert rows["ball"]["grasps"] == ["power_sphere"]
     assert rows["ball"]["grasps_from"].startswith("from its shape: sphere-like")
     assert rows["large_cylinder"]["grasps_from"] == "given"

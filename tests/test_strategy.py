@@ -23,7 +23,7 @@ from graspframe.run_request import RunRequest
 from graspframe.runner import run_grasp
 from graspframe.strategy import method
 from graspframe.strategy.arm_path import choose_plan, path_problem
-from graspframe.strategy.hand_geometry import closing_configurations, lowest_hand_point
+from graspframe.strategy.hand_geometry import closing_configurations, lowest_points
 from graspframe.strategy.method import ExecutorParams
 from graspframe.strategy.planner import (
     PlannerParams,
@@ -152,7 +152,7 @@ def test_the_whole_hand_clears_the_table_at_the_goal(hand_name, grasp):
     hand, obj, _, plan = _reference_plan(hand_name, grasp)
     preshape = hand.preshape(plan.preshape)
     configurations = closing_configurations(hand, preshape, obj, inv_T(plan.T_object_palm))
-    lowest = lowest_hand_point(hand, configurations, plan.T_world_palm_goal[:3, :3])
+    lowest = min(lowest_points(hand, configurations, plan.T_world_palm_goal[:3, :3]).values())
     assert plan.T_world_palm_goal[2, 3] + lowest >= PlannerParams().table_clearance - 1e-9
     assert plan.min_goal_height == pytest.approx(PlannerParams().table_clearance - lowest, abs=1e-6)
 

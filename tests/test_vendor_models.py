@@ -22,14 +22,26 @@ def _held(result: dict) -> bool:
     return bool(outcome["held_after_lift"] and outcome["held_under_disturbance"])
 
 
-def test_the_leap_hand_spec_passes_check_hand(leap_hand_dir, tmp_path, capsys):
+def test_the_leap_hand_spec_is_checked_on_every_grasp_its_preshapes_serve(
+    leap_hand_dir, tmp_path, capsys
+):
+    import re
+
     before = folder_state(leap_hand_dir)
-    assert check_hand_command(str(LEAP_HAND_SPEC), pictures=tmp_path) == 0
+    code = check_hand_command(str(LEAP_HAND_SPEC), pictures=tmp_path, arm="kuka")
     printed = capsys.readouterr().out
-    assert "3 of 3 checks ran, all passed" in printed and "4 of 4 held" in printed
-    # One picture per preshape closed without physics, one per hold trial (held or not).
+    assert printed.startswith("hand leap_hand: 5 of 5 checks ran")
+    assert "3. mounted on kuka: no hand link inside an arm link" in printed
+    assert "bolted straight on: " in printed and "through its dorsal mounting: " in printed
+    design, experiment = re.findall(r"(\d) of (\d) held", printed)
+    assert design == ("4", "4")  # every preshape holds its design object
+    held, trials = (int(n) for n in experiment)
+    assert trials == 6 and held >= 4, printed  # experiment A's objects: 5 of 6 measured
+    assert code == (0 if held == trials else 1)
+    # One picture per preshape closed without physics, one per hold trial.
     assert len(list(tmp_path.glob("*_closing.png"))) == 4
-    assert len(list(tmp_path.glob("*.png"))) == 8
+    assert len(list(tmp_path.glob("*_experiment_a.png"))) == 6
+    assert len(list(tmp_path.glob("*.png"))) == 14
     assert folder_state(leap_hand_dir) == before
 
 

@@ -4,13 +4,19 @@ of graspframe/checks.py run on them and their report printed."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import typer
 
 from graspframe import registry as registry_module
 from graspframe.defaults import DEFAULT_BACKEND
+from graspframe.errors import UnknownNameError
 from graspframe.grasps import HUMAN_HAND
+from graspframe.hal.descriptions import HandDescription
 from graspframe.registry import Registry
+
+if TYPE_CHECKING:
+    from graspframe.testing.grasp_checks import ExperimentObjects
 
 
 def check_hand_command(
@@ -35,12 +41,7 @@ def check_hand_command(
     hand = registry.get_hand(name)
     physics = registry.get_backend(backend)() if hold else None
     arm_description = registry.get_arm(arm) if arm is not None else None
-    experiment = None
-    if hold and hand.name != HUMAN_HAND:
-        from graspframe.testing.grasp_checks import ExperimentObjects
-
-        objects = {grasp: registry.default_object_for(grasp) for grasp in hand.grasp_map}
-        experiment = ExperimentObjects(registry.get_hand(HUMAN_HAND), objects)
+    experiment = _experiment_objects(registry, hand) if hold else None
     # The checks (contracts, kinematics, pictures) are imported once the names are known:
     # a mistyped name is answered at once.
     from graspframe.checks import check_hand_report
@@ -53,3 +54,18 @@ def check_hand_command(
     for line in lines:
         typer.echo(line)
     return 0 if passed else 1
+
+
+def _experiment_objects(registry: Registry, hand: HandDescription) -> ExperimentObjects | None:
+    """Experiment A's object for each grasp of the hand, and the human hand that places
+    the palm on it; None for the human hand, or a registry without them (a plugin's own
+    test registry)."""
+    from graspframe.testing.grasp_checks import ExperimentObjects
+
+    if hand.name == HUMAN_HAND:
+        return None
+    try:
+        objects = {grasp: registry.default_object_for(grasp) for grasp in hand.grasp_map}
+        return ExperimentObjects(registry.get_hand(HUMAN_HAND), objects)
+    except UnknownNameError:
+        return None

@@ -12,9 +12,10 @@ bounding box it fills (volume / (w W h)). The first rule that matches decides:
 2. a flat disc (h at most half of w, and a round or square plan, w at least 0.8 W): a
    precision disc;
 3. a small block (L at most 8 cm): a pinch;
-4. standing up (h at least w), cylinder-like: a small diameter grasp when w is at most
-   4 cm (a handle), else a large diameter grasp (a can, a bottle);
-5. lying down (h below w): a pinch when h is at most 5 cm (a banana, a pen), else a
+4. standing up (h at least W: taller than it is wide), cylinder-like: a small diameter
+   grasp when w is at most 4 cm (a handle), else a large diameter grasp (a can, a
+   bottle);
+5. lying down (h below W): a pinch when h is at most 5 cm (a banana, a pen), else a
    large diameter grasp across its narrowest side.
 
 Thresholds from the method's grasp table (docs/method.md: a handle 2-3 cm, a can 7-9 cm,
@@ -86,7 +87,7 @@ def grasp_from_shape(obj: ObjectDescription) -> tuple[HumanGrasp, str]:
         return HumanGrasp.PRECISION_DISC, f"a flat disc ({size})"
     if m.largest <= SMALL_BLOCK:
         return HumanGrasp.PINCH, f"a small block ({size})"
-    if m.height >= m.narrow:
+    if m.height >= m.across:
         if m.narrow <= HANDLE_MAX_WIDTH:
             return HumanGrasp.SMALL_DIAMETER, f"standing, as thin as a handle ({size})"
         return HumanGrasp.LARGE_DIAMETER, f"standing, cylinder-like ({size})"

@@ -20,12 +20,13 @@ from graspframe.hal.descriptions import (
     HandPreshape,
 )
 from graspframe.specs.model import read_drive, read_frames, read_joints, read_packages
+from graspframe.specs.mountings import read_mountings
 from graspframe.specs.reader import SpecReader
 from graspframe.urdf_model import description_model
 
 HAND_KEYS = (
     "kind", "name", "summary", "urdf", "mount_link", "root_link", "palm_frame",
-    "palm_sensor_link", "mass",
+    "palm_sensor_link", "mass", "mountings",
     "packages", "frames", "fingers", "fingertips", "joints", "drive", "couplings",
     "preshapes", "grasp_map",
 )  # fmt: skip
@@ -209,6 +210,7 @@ def read_hand(reader: SpecReader, data: Mapping[str, Any]) -> HandDescription:
         mass=reader.number(data, "mass", "the spec", 0.0),
         summary=str(data.get("summary", "")),
         extras={FINGERTIP_FRAMES_KEY: dict(tips)},
+        mountings=read_mountings(reader, data, model),
         packages=packages,
         frames=frames,
     )

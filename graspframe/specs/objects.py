@@ -95,7 +95,7 @@ def load_object_file(path: Path | str, name: str | None = None) -> ObjectDescrip
             f"mesh {path.name} has no sidecar {sidecar.name} beside it: write one with its "
             "mass = <kg> (or density = <kg/m^3>) and, if you like, its grasps"
         )
-    reader = SpecReader(sidecar)
+    reader = SpecReader(sidecar, label="sidecar")
     try:
         data = tomllib.loads(sidecar.read_text())
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:

@@ -13,13 +13,15 @@ from graspframe.errors import DescriptionError
 
 
 class SpecReader:
-    """Reads the values of the spec file `path`; every error names the file."""
+    """Reads the values of the spec file `path`; every error names the file (as a
+    `label`: "spec", "sidecar")."""
 
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, label: str = "spec") -> None:
         self.path = path
+        self.label = label
 
     def fail(self, message: str) -> DescriptionError:
-        return DescriptionError(f"spec {self.path.name}: {message}")
+        return DescriptionError(f"{self.label} {self.path.name}: {message}")
 
     def keys(self, table: Mapping[str, Any], accepted: tuple[str, ...], where: str) -> None:
         for key in table:

@@ -6,9 +6,11 @@ one of its links touches the object (Pinocchio places the shapes, coal tests the
 against the object's primitive, or a mesh object's convex pieces). This is the hand's
 shape at every moment of a grasp, without a simulator.
 
-`lowest_hand_point` is the lowest point, along the world vertical, of every hand shape
-(palm included) over those configurations, relative to the palm origin, for a given palm
-orientation: a goal must keep it above the table.
+`lowest_points` is the lowest point, along the world vertical, of every hand link's
+shapes (palm included) over those configurations, relative to the palm origin, for a
+given palm orientation: a goal must keep them above the table. `fingertip_links` names
+each real finger's last shaped link (a planner alternative lets only those come nearer
+the table).
 """
 
 from __future__ import annotations
@@ -80,11 +82,13 @@ class ClosingSweep(NamedTuple):
     """A preshape closed kinematically: configurations: hand joint values [rad]
     (followers included) from open to closed; touched: the real fingers (not the palm)
     that stopped on the object, in the order they touched it; open_inside: the links
-    that lie in the object in the open posture (the approach would push it)."""
+    that lie in the object in the open posture (the approach would push it);
+    p_object_touch: (N, 3) [m] where each of them first touched it, object frame."""
 
     configurations: list[dict[str, float]]
     touched: tuple[str, ...]
     open_inside: tuple[str, ...] = ()
+    p_object_touch: NDArray[np.float64] = np.zeros((0, 3))
 
 
 def closing_sweep(
@@ -106,10 +110,12 @@ def closing_sweep(
         geometries = object_coal_geometries(obj)
         model.place(hand.with_model_followers(dict(preshape.open_q)))
         T_root_object = model.T_root_frame(hand.palm_frame) @ T_palm_object
+        T_object_root = inv_T(T_root_object)
         tf_object = coal.Transform3s(T_root_object[:3, :3], T_root_object[:3, 3])
     frozen: dict[str, float] = {}
     stopped: list[str] = []
     open_inside: list[str] = []
+    touch_points: list[NDArray[np.float64]] = []
     configurations = []
     previous: dict[str, float] | None = None
     for s in np.linspace(0.0, 1.0, samples):
@@ -128,6 +134,8 @@ def closing_sweep(
                     request, result = coal.CollisionRequest(), coal.CollisionResult()
                     if coal.collide(shape, tf, geometry, tf_object, request, result):
                         touching.add(finger)
+                        p_root = np.asarray(result.getContact(0).pos, dtype=float)
+                        touch_points.append(T_object_root @ np.append(p_root, 1.0))
                         break
             for finger in sorted(touching):
                 stopped.append(finger)
@@ -137,7 +145,8 @@ def closing_sweep(
                 q = hand.with_model_followers(_interpolate(preshape, float(s), frozen))
         configurations.append(q)
         previous = q
-    return ClosingSweep(configurations, tuple(stopped), tuple(open_inside))
+    points = np.array([p[:3] for p in touch_points]).reshape(-1, 3)
+    return ClosingSweep(configurations, tuple(stopped), tuple(open_inside), points)
 
 
 def _links_inside(model: CollisionModel, q: dict[str, float], geometries: list, tf_object) -> list:
@@ -192,16 +201,6 @@ def lowest_points(
                 height = float((points_palm @ R_world_palm.T)[:, 2].min())
             lowest[link] = min(lowest.get(link, np.inf), height)
     return lowest
-
-
-def lowest_hand_point(
-    hand: HandDescription,
-    configurations: list[dict[str, float]],
-    R_world_palm: NDArray[np.float64],
-) -> float:
-    """[m] the lowest world height of any hand shape over the configurations, relative
-    to the palm origin (negative: below it), with the palm turned by R_world_palm."""
-    return float(min(lowest_points(hand, configurations, R_world_palm).values()))
 
 
 def fingertip_links(hand: HandDescription) -> dict[str, str]:

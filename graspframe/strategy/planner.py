@@ -31,13 +31,14 @@ Choices the method leaves open (see docs/method.md; the settings in quotes are
   kinematic closing at the raised goal brings fewer than two real fingers onto it, and
   fewer than it would with no table in the way), the planner tries the ways that keep
   them on it, in order (`REACH_ALTERNATIVES`, `Reach`): a lower goal with only the
-  fingertips kept off the table (they may come down to it, as a person's slide on the
+  fingertips nearer the table (`fingertip_clearance`, as a person's come down to the
   table under a thin object), the palm tilted by 15 or 30 deg about its x or y axis
   (the long finger's side up), then rolled about its normal by 90, 180 or 270 deg (the
   long finger on the far side). The first that brings every finger the closing would
   bring with no table in the way onto the object, its open hand at the goal clear of
   the object (so the approach does not push it), is planned (`GraspPlan.reach` says
-  which); when none does, the grasp is refused in one line: the link that sets the
+  which: the lowest of its first touches above the object's centroid is
+  `lowest_touch_height`); when none does, the grasp is refused in one line: the link that sets the
   raise, how far below the palm it reaches, how far the hand was raised and how tall
   the object is.
 - Alternatives for a collision-free arm path (graspframe/strategy/arm_path.py): the
@@ -84,6 +85,9 @@ class PlannerParams:
     # much higher, so the open hand does not sweep through the object on its way there.
     side_via_rise: float = 0.15  # [m]
     table_clearance: float = 0.01  # [m] of the whole hand above the table at the goal
+    # [m] of the fingertips alone when only they may come nearer (`Reach`): just over the
+    # 5 mm the path check keeps every link from the table (arm_path.py).
+    fingertip_clearance: float = 0.006
     palm_clearance: float = 0.005  # [m] of a non-volar object's near face from the palm
 
 
@@ -110,13 +114,14 @@ class Variant:
 class Reach:
     """A way of keeping the fingers on an object the table raise would lift them off.
 
-    fingertips_to_table: only the fingertips (each real finger's last shaped link) may
-        come down to the table itself; the rest of the hand stays `table_clearance`
-        above it. tilt_axis, tilt_deg: the palm turned about its own x or y axis [deg];
-        roll_deg: turned about its normal [deg] (both about the grasp point).
+    fingertips_lower: only the fingertips (each real finger's last shaped link) may
+        come down to `fingertip_clearance` above the table; the rest of the hand stays
+        `table_clearance` above it. tilt_axis, tilt_deg: the palm turned about its own
+        x or y axis [deg]; roll_deg: turned about its normal [deg] (both about the grasp
+        point).
     """
 
-    fingertips_to_table: bool = False
+    fingertips_lower: bool = False
     tilt_axis: str = "y"
     tilt_deg: float = 0.0
     roll_deg: float = 0.0
@@ -124,8 +129,8 @@ class Reach:
     def describe(self) -> str:
         """In words; empty for the plan as the human grasp has it."""
         parts = []
-        if self.fingertips_to_table:
-            parts.append("only the fingertips kept off the table")
+        if self.fingertips_lower:
+            parts.append("only the fingertips lower")
         if self.tilt_deg:
             parts.append(f"palm tilted {self.tilt_deg:+.0f} deg about its {self.tilt_axis}")
         if self.roll_deg:
@@ -140,13 +145,13 @@ class Reach:
 
 
 REACH_ALTERNATIVES = (
-    Reach(fingertips_to_table=True),
+    Reach(fingertips_lower=True),
     *(
-        Reach(fingertips_to_table=True, tilt_axis=axis, tilt_deg=tilt)
+        Reach(fingertips_lower=True, tilt_axis=axis, tilt_deg=tilt)
         for axis in ("y", "x")
         for tilt in (15.0, -15.0, 30.0, -30.0)
     ),
-    *(Reach(fingertips_to_table=True, roll_deg=roll) for roll in (90.0, 180.0, 270.0)),
+    *(Reach(fingertips_lower=True, roll_deg=roll) for roll in (90.0, 180.0, 270.0)),
 )
 MIN_FINGERS_ON_OBJECT = 2  # real fingers on the object below which a raise is costly
 
@@ -178,7 +183,9 @@ class GraspPlan:
     fingers_on_object: the real fingers the kinematic closing at the goal brings onto
         the object; fingers_without_table: those it would bring with no table in the
         way (the goal not raised); open_inside_object: the hand links inside the object
-        in the open posture at the goal (an approach that would push it).
+        in the open posture at the goal (an approach that would push it);
+        lowest_touch_height: [m] the lowest of the fingers' first touches above the
+        object's centroid (object frame z, up as it rests; 0 without a touch).
     """
 
     hand: str
@@ -206,6 +213,7 @@ class GraspPlan:
     fingers_on_object: tuple[str, ...] = ()
     fingers_without_table: tuple[str, ...] = ()
     open_inside_object: tuple[str, ...] = ()
+    lowest_touch_height: float = 0.0
 
     @property
     def pre_approach_distance(self) -> float:
@@ -310,7 +318,7 @@ def plan_grasp(
         f"{1000 * plan.lowest_below_palm:.0f} mm below the palm), where only {reaching} "
         f"reaches the {1000 * 2 * obj.half_height:.0f} mm tall {obj.name} (with no table in "
         f"the way: {', '.join(plan.fingers_without_table)}); neither a lower goal with only "
-        "the fingertips off the table nor the palm tilted (15, 30 deg) or rolled (90, 180, "
+        "the fingertips nearer the table nor the palm tilted (15, 30 deg) or rolled (90, 180, "
         "270 deg) brings them all onto it"
     )
 
@@ -344,7 +352,7 @@ class _GoalProblem:
         T_object_palm = make_T(R_object_palm, -R_object_palm @ p_palm_object)
         T_goal = self.T_world_object_est @ T_object_palm
         approach, a = approach_direction(T_goal[:3, :3], params)
-        clearance = _clearances(hand, params.table_clearance, reach.fingertips_to_table)
+        clearance = _clearances(hand, params, reach.fingertips_lower)
 
         # Raising the goal moves the object in the palm frame, and with it where the
         # fingers stop on it: repeat until the lowest point of the closing hand settles.
@@ -396,15 +404,16 @@ class _GoalProblem:
             fingers_on_object=sweep.touched,
             fingers_without_table=unraised,
             open_inside_object=sweep.open_inside,
+            lowest_touch_height=float(min(sweep.p_object_touch[:, 2], default=0.0)),
         )
 
 
-def _clearances(hand: HandDescription, table_clearance: float, fingertips_to_table: bool):
+def _clearances(hand: HandDescription, params: PlannerParams, fingertips_lower: bool):
     """link -> [m] how far above the table it must stay at the goal."""
-    tips = set(fingertip_links(hand).values()) if fingertips_to_table else set()
+    tips = set(fingertip_links(hand).values()) if fingertips_lower else set()
 
     def clearance(link: str) -> float:
-        return 0.0 if link in tips else table_clearance
+        return params.fingertip_clearance if link in tips else params.table_clearance
 
     return clearance
 
