@@ -1,7 +1,7 @@
 """The checks of `graspframe check-hand` (graspframe/commands/check_hand.py): what each
 checked, its verdict and what it measured.
 
-Three checks, in order, each reported with its verdict and what it measured:
+Five checks, in order, each reported with its verdict and what it measured:
 
 1. the description and its model (`graspframe.testing.hand_problems`: joints and limits
    against the model, real fingers, couplings, preshapes within limits, the mapping of
@@ -16,19 +16,27 @@ Three checks, in order, each reported with its verdict and what it measured:
    of each preshape closed kinematically around its design object (every finger stops
    where it first touches it: `hand_geometry.closing_configurations`), with those gaps
    in its caption, to see where the fingers land before any physics runs;
-3. unless asked not to, the hand alone (on the floating base, no arm) holds each
+3. with an arm, the hand mounted on it (bolted straight on and through each mounting)
+   has no link inside an arm link (`mounting.mount_overlaps`): the deepest touch of
+   each mount, and every pair deeper than the tolerance as a problem;
+4. unless asked not to, the hand alone (on the floating base, no arm) holds each
    preshape's design object through the lift and the pushes of a real run, in the
-   registered physics backend (`grasp_checks.hold_trials`): contacts per real finger,
-   the object's motion in the hand and, for a failed hold, what limited it
-   (`grasp_checks.hold_limit`: the fingers that never touched, the squeeze times the
-   friction against the weight); a picture of every trial, held or not, is written to
-   the pictures folder (a trial that recorded no moment, no plan found or its approach
-   aborted: its preshape posed around the design object, the reason in the title).
+   registered physics backend (`grasp_checks.hold_trials`): every raise of the goal
+   off the table, contacts per real finger, the object's motion in the hand and, for a
+   failed hold, what limited it (`grasp_checks.hold_limit`: the fingers that never
+   touched, the squeeze times the friction against the weight); a picture of every
+   trial, held or not, is written to the pictures folder (a trial that recorded no
+   moment, no plan found or its approach aborted: its preshape posed around the design
+   object, the reason in the title);
+5. with experiment A's objects, the same for every human grasp on its own object, the
+   palm placed as the human reference places it: every grasp a preshape serves, not
+   only the one its design object stands for.
 
 A check runs only when the ones before it passed (a hand whose model does not load
 cannot be closed). Every picture of a preshape is `NAME_closing.png`, of a trial
-`PRESHAPE_GRASP.png`. The grasp checks are for robot hands: the human reference hand's
-postures are checked by the reference procedure (graspframe/strategy/human_reference.py).
+`PRESHAPE_GRASP.png` (`PRESHAPE_GRASP_experiment_a.png` on experiment A's object). The
+grasp checks are for robot hands: the human reference hand's postures are checked by the
+reference procedure (graspframe/strategy/human_reference.py).
 """
 
 from __future__ import annotations

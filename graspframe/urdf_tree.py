@@ -22,9 +22,8 @@ from __future__ import annotations
 import math
 import xml.etree.ElementTree as ET
 
-import numpy as np
-
 from graspframe.errors import DescriptionError
+from graspframe.transforms import inv_T
 from graspframe.urdf_elements import origin_T, set_origin
 
 CONTINUOUS_RANGE = 2 * math.pi  # [rad] either side of zero, when the file gives none
@@ -89,7 +88,7 @@ def reroot(robot: ET.Element, link: str, what: str, role: str) -> None:
     for joint in path:
         parent, child = _ends(joint)
         T_parent_child = origin_T(joint, f"joint {joint.get('name')!r}")
-        set_origin(joint, np.linalg.inv(T_parent_child))
+        set_origin(joint, inv_T(T_parent_child))
         parent_element, child_element = joint.find("parent"), joint.find("child")
         assert parent_element is not None and child_element is not None
         parent_element.set("link", child)

@@ -15,6 +15,7 @@ import pytest
 from conftest import JACO2_SPEC, LEAP_HAND_SPEC, PANDA_SPEC, folder_state
 
 from graspframe.cli import main
+from graspframe.commands.check_hand import check_hand_command
 from graspframe.errors import DescriptionError
 from graspframe.grasps import HumanGrasp
 from graspframe.mounting import MOUNT_OVERLAP_TOLERANCE, mount, mount_overlaps
@@ -96,10 +97,19 @@ def test_a_hand_mounted_inside_itself_is_refused_naming_links_and_depth(
     message = str(error.value)
     assert "\n" not in message and "palm_lower" in message and "kr5_link_6" in message
     assert "mm deep" in message
+    # Refused before anything runs, by run, evaluate and check-hand alike.
     argv = ["run", "--hand", str(path), "--grasp", "pinch", "--no-record", "--out", str(tmp_path)]
     assert main(argv) == 1
-    printed = capsys.readouterr().err
-    assert "palm_lower" in printed and "mm deep in arm link" in printed
+    printed = " ".join(capsys.readouterr().err.split())
+    assert "palm_lower' is" in printed and "mm deep in arm link 'kr5_link_6'" in printed
+    argv = ["evaluate", "--hands", str(path), "--grasps", "pinch", "--directions", "0"]
+    assert main([*argv, "--out", str(tmp_path / "sweep")]) == 1
+    assert "mm deep in arm link 'kr5_link_6'" in " ".join(capsys.readouterr().err.split())
+    assert not (tmp_path / "sweep" / "trials.jsonl").exists()
+    assert check_hand_command(str(path), hold=False, arm="kuka") == 1
+    report = capsys.readouterr().out
+    assert "3. mounted on kuka: no hand link inside an arm link" in report
+    assert "problem: bolted straight on: hand link 'palm_lower' is" in report
 
 
 def test_the_shipped_mounts_touch_the_flange_at_most_by_the_tolerance(

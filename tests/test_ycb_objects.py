@@ -189,3 +189,37 @@ def test_each_object_is_held_in_its_documented_grasp(objects, folder, scans_as_s
     assert outcome.held_after_lift, outcome.failure_reason
     assert outcome.held_under_disturbance, outcome.failure_reason
     assert len(outcome.touching_fingers) >= 2
+
+
+# The six scans of this folder under six other objects' ids of the set: what a user's
+# folder of other YCB objects looks like to the plugin.
+OTHER_IDS = {
+    "005_tomato_soup_can": "002_master_chef_can",
+    "006_mustard_bottle": "021_bleach_cleanser",
+    "011_banana": "043_phillips_screwdriver",
+    "025_mug": "065-h_cups",
+    "056_tennis_ball": "055_baseball",
+    "061_foam_brick": "077_rubiks_cube",
+}
+
+
+def test_a_folder_of_other_ycb_objects_registers_every_one(tmp_path, monkeypatch):
+    for scanned, other in OTHER_IDS.items():
+        folder = tmp_path / other / "google_16k"
+        folder.mkdir(parents=True)
+        for name in ("textured.obj", "textured.mtl", "texture_map.jpg", "textured_vhacd.stl"):
+            (folder / name).symlink_to(YCB_DIR / scanned / "google_16k" / name)
+    before = folder_state(YCB_DIR)
+    monkeypatch.setenv(YCB_DIR_ENV, str(tmp_path))
+    registry = Registry.from_entry_points()
+    info = next(p for p in registry.plugins if p.name == "ycb")
+    assert info.status == "loaded" and info.not_registered == []
+    assert sorted(name for _kind, name in info.provides) == sorted(
+        f"ycb_{other}" for other in OTHER_IDS.values()
+    )
+    for other in OTHER_IDS.values():
+        obj = registry.get_object(f"ycb_{other}")
+        assert obj.mass == YCB_OBJECTS[other].mass  # the set's table, Calli et al. 2015
+        assert obj.documented_grasps() == (YCB_OBJECTS[other].grasp,)
+        assert obj.collision_path == tmp_path / other / "google_16k" / "textured_vhacd.stl"
+    assert folder_state(YCB_DIR) == before

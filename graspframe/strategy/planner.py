@@ -51,6 +51,7 @@ Choices the method leaves open (see docs/method.md; the settings in quotes are
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -408,7 +409,9 @@ class _GoalProblem:
         )
 
 
-def _clearances(hand: HandDescription, params: PlannerParams, fingertips_lower: bool):
+def _clearances(
+    hand: HandDescription, params: PlannerParams, fingertips_lower: bool
+) -> Callable[[str], float]:
     """link -> [m] how far above the table it must stay at the goal."""
     tips = set(fingertip_links(hand).values()) if fingertips_lower else set()
 
