@@ -297,7 +297,9 @@ NOT_HELD = {
         "the 19 mm handle sits loose in the wedge under the crossing fingers (the arm's "
         "path takes the grasp turned by 30 deg)"
     ),
-    ("barrett", G.PRECISION_DISC, "075", "arm"): "the fingertips pass over the 19 mm disc",
+    ("barrett", G.PRECISION_DISC, "075", "arm"): (
+        "refused: the fingertips pass over the 19 mm disc once the hand is off the table"
+    ),
     ("karlsruhe", G.PRECISION_DISC, "125", "arm"): (
         "the 11 cm disc does not fit between the thumb and the little finger's post"
     ),

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 import typer
 
 from graspframe import registry as registry_module
-from graspframe.defaults import DEFAULT_BACKEND
+from graspframe.defaults import DEFAULT_ARM, DEFAULT_BACKEND
 from graspframe.errors import UnknownNameError
 from graspframe.grasps import HUMAN_HAND
 from graspframe.hal.descriptions import HandDescription
@@ -40,7 +40,9 @@ def check_hand_command(
     registry = registry or registry_module.default_registry()
     hand = registry.get_hand(name)
     physics = registry.get_backend(backend)() if hold else None
-    arm_description = registry.get_arm(arm) if arm is not None else None
+    # The default arm is checked when it is installed; an arm asked for must be.
+    asked = arm is not None and (arm != DEFAULT_ARM or DEFAULT_ARM in registry.names("arm"))
+    arm_description = registry.get_arm(arm) if asked and arm is not None else None
     experiment = _experiment_objects(registry, hand) if hold else None
     # The checks (contracts, kinematics, pictures) are imported once the names are known:
     # a mistyped name is answered at once.
