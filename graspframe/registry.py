@@ -180,6 +180,18 @@ class Registry:
                 if impl.plugin is not module:
                     continue
                 _call(impl, register=self._stager(kind, info, staged, skipped))
+        # An object whose name another plugin took is left out, not the whole source: a
+        # folder of scans loses one scan, and a catalogue loaded after it loses nothing.
+        for entry in [
+            e for e in staged if e.kind == "object" and e.name in self._entries["object"]
+        ]:
+            taken = self._entries["object"][entry.name]
+            reason = (
+                f"the name is taken by plugin {taken.plugin!r} (package {taken.package}); "
+                "give it another name"
+            )
+            staged.remove(entry)
+            skipped.append((entry.kind, entry.name, reason))
         for entry in staged:
             self._check_unique(entry)
         for entry in staged:

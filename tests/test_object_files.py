@@ -1,5 +1,5 @@
 """Objects from mesh files and their sidecars, with no Python (graspframe/specs/objects.py,
-plugins/graspframe_object_files): what a sidecar says, what is refused in one line, the
+plugins/graspframe_scans): what a sidecar says, what is refused in one line, the
 grasp that follows from a shape when none is given, a folder of scans registered with
 what could not be, `graspframe objects`, and `run --object PATH` grasping a scan."""
 
@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 import trimesh
 from conftest import folder_state
-from graspframe_object_files.plugin import OBJECTS_ENV
+from graspframe_scans.plugin import OBJECTS_ENV
 
 import graspframe.registry
 from graspframe.cli import main
@@ -133,12 +133,16 @@ def _folder_of_scans(root: Path) -> Path:
     ball.apply_translation((0, 0, 0.04))
     _mesh(root / "toys" / "ball.obj", ball)
     _mesh(root / "toys" / "ball_pieces.stl", ball)
-    (root / "toys" / "ball.toml").write_text('mass = 0.06\ncollision = "ball_pieces.stl"\n')
+    (root / "toys" / "ball.toml").write_text(
+        'name = "toy_ball"\nmass = 0.06\ncollision = "ball_pieces.stl"\n'
+    )
     _can(root / "toys" / "spare.obj")  # no sidecar
     _can(root / "toys" / "heavy.obj")
     (root / "toys" / "heavy.toml").write_text('grasps = ["large_diameter"]\n')  # no mass
     _can(root / "more" / "tin.obj")
     (root / "more" / "tin.toml").write_text("mass = 0.4\n")  # a second "tin"
+    _can(root / "more" / "handle.obj")
+    (root / "more" / "handle.toml").write_text("mass = 0.1\n")  # a built-in object's name
     return root
 
 
@@ -150,14 +154,16 @@ def test_a_folder_of_scans_registers_each_sidecar_and_says_what_it_could_not(
     monkeypatch.setenv(OBJECTS_ENV, str(folder))
     registry = Registry.from_entry_points()
     monkeypatch.setattr(graspframe.registry, "default_registry", lambda: registry)
-    info = next(p for p in registry.plugins if p.name == "object_files")
+    info = next(p for p in registry.plugins if p.name == "scans")
     assert info.status == "loaded"
-    assert sorted(name for _kind, name in info.provides) == ["ball", "tin"]
+    assert sorted(name for _kind, name in info.provides) == ["tin", "toy_ball"]
     assert registry.get_object("tin").mass == 0.3  # the first found, kitchen/tin.obj
-    ball = registry.get_object("ball")
+    ball = registry.get_object("toy_ball")
     assert ball.documented_grasps() == (HumanGrasp.POWER_SPHERE,)  # from its shape
     skipped = {name: reason for _kind, name, reason in info.not_registered}
-    assert set(skipped) == {"spare", "heavy", "tin"}
+    assert set(skipped) == {"spare", "heavy", "tin", "handle"}
+    assert "the name is taken by plugin 'objects'" in skipped["handle"]
+    assert registry.get_object("handle").shape == "cylinder"  # the catalogue's stays
     assert "has no sidecar spare.toml beside it" in skipped["spare"]
     assert "no mass: set mass = <kg>" in skipped["heavy"]
     assert "are both named 'tin'" in skipped["tin"]
@@ -167,22 +173,23 @@ def test_a_folder_of_scans_registers_each_sidecar_and_says_what_it_could_not(
     assert main(["objects", "--json"]) == 0
     listing = json.loads(capsys.readouterr().out)
     rows = {row["name"]: row for row in listing["objects"]}
-    assert rows["ball"]["plugin"] == "object_files" and rows["ball"]["mass_g"] == 60.0
-    assert rows["ball"]["size_mm"] == pytest.approx([80, 80, 80], abs=2.0)
-    assert rows["ball"]["grasps"] == ["power_sphere"]
-    assert rows["ball"]["grasps_from"].startswith("from its shape: sphere-like")
+    assert rows["toy_ball"]["plugin"] == "scans" and rows["toy_ball"]["mass_g"] == 60.0
+    assert rows["toy_ball"]["size_mm"] == pytest.approx([80, 80, 80], abs=2.0)
+    assert rows["toy_ball"]["grasps"] == ["power_sphere"]
+    assert rows["toy_ball"]["grasps_from"].startswith("from its shape: sphere-like")
     assert rows["large_cylinder"]["grasps_from"] == "given"
-    assert {row["name"] for row in listing["not_registered"]} == {"spare", "heavy", "tin"}
+    unregistered = {row["name"] for row in listing["not_registered"]}
+    assert unregistered == {"spare", "heavy", "tin", "handle"}
     assert main(["objects"]) == 0
     table = " ".join(capsys.readouterr().out.split())
-    assert "3 object(s) found but not registered" in table and "heavy (object_files)" in table
+    assert "4 object(s) found but not registered" in table and "heavy (scans)" in table
     assert folder_state(folder) == before  # read in place: nothing written beside the scans
 
 
 def test_a_missing_folder_fails_the_source_in_one_line(tmp_path, monkeypatch):
     monkeypatch.setenv(OBJECTS_ENV, os.pathsep.join([str(tmp_path), str(tmp_path / "gone")]))
     registry = Registry.from_entry_points()
-    info = next(p for p in registry.plugins if p.name == "object_files")
+    info = next(p for p in registry.plugins if p.name == "scans")
     assert info.status == "failed" and f"{tmp_path / 'gone'} does not exist" in info.error
     assert registry.get_hand("barrett")  # the other plugins work
 

@@ -1,1 +1,0 @@
-"""Objects from mesh files with sidecars (GRASPFRAME_OBJECTS)."""

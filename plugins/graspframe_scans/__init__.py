@@ -1,0 +1,1 @@
+"""Scans as objects: mesh files with their sidecars (GRASPFRAME_OBJECTS)."""
