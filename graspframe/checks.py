@@ -279,7 +279,10 @@ def _plan_lines(trial: HoldTrial) -> list[str]:
         )
     if plan.table_raise > 0.0005 or plan.reach:
         fingers = ", ".join(plan.fingers_on_object) or "none"
-        lines.append(f"real fingers on the object, closed without physics: {fingers}")
+        lines.append(
+            f"real fingers on the object, closed without physics: {fingers} (the lowest "
+            f"first touch {1000 * plan.lowest_touch_height:.0f} mm above its centroid)"
+        )
     return lines
 
 

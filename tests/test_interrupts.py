@@ -177,11 +177,21 @@ def test_an_interrupted_hand_check_stops(tmp_path):
 
 
 def test_a_run_whose_grasp_is_not_held_exits_3(tmp_path, capsys):
-    """The 19 mm disc on the table: the Barrett fingertips close above it."""
+    """The 19 mm handle on the arm: it sits loose under the Barrett's crossing fingers."""
+    args = ["run", "--hand", "barrett", "--grasp", "small_diameter", "--object", "handle_075"]
+    code = main([*args, "--no-record", "--out", str(tmp_path)])
+    assert code == EXIT_NOT_HELD
+    assert "grasp failed: the object slipped during the lift" in capsys.readouterr().out
+
+
+def test_a_grasp_the_fingers_cannot_reach_is_refused_with_exit_1(tmp_path, capsys):
+    """The 19 mm disc on the table: kept off the table, the Barrett's fingers miss it."""
     args = ["run", "--hand", "barrett", "--grasp", "precision_disc", "--object", "disc_075"]
     code = main([*args, "--mount", "floating", "--no-record", "--out", str(tmp_path)])
-    assert code == EXIT_NOT_HELD
-    assert "grasp failed: no real finger touched the object" in capsys.readouterr().out
+    assert code == 1
+    err = " ".join(capsys.readouterr().err.split())
+    assert "keeping the barrett hand 10 mm above the table raises it 59 mm" in err
+    assert "where only finger_3 reaches the 19 mm tall disc_075" in err
 
 
 def test_interrupts_are_handled_only_while_a_command_runs():
