@@ -14,8 +14,9 @@ frame, by the first rule that applies:
   NEARLY_CONVEX_RATIO times its own): its convex hull. Method "hull".
 - anything else: an approximate convex decomposition with CoACD (Wei et al., "Approximate
   Convex Decomposition for 3D Meshes with Collision-Aware Concavity and Tree Search",
-  SIGGRAPH 2022), seed 0, concavity threshold COACD_THRESHOLD. Method "coacd". This can
-  take minutes on a 16k-face scan, hence the cache.
+  SIGGRAPH 2022), seed 0, concavity threshold COACD_THRESHOLD, a lighter search than its
+  defaults (COACD_SEARCH). Method "coacd". This can take minutes on a 16k-face scan,
+  hence the cache.
 
 Every piece is a closed convex hull of at most MAX_PIECE_VERTICES vertices (PhysX's own
 limit): a hull of more than MIN_KEPT_VERTICES keeps the fewest of its vertices, taken by
@@ -70,6 +71,10 @@ SLIVER_VOLUME_FRACTION = 1e-4  # of the total volume of the given pieces
 NEARLY_CONVEX_RATIO = 1.02  # hull volume / mesh volume of a mesh taken as its hull
 COACD_THRESHOLD = 0.05  # CoACD's concavity threshold (its default)
 COACD_SEED = 0
+# CoACD's search, lighter than its defaults (resolution 50, 150 iterations, depth 3):
+# measured on the Kinova JACO2's link meshes (4-8k vertices), 2.2 to 2.6 times faster,
+# the pieces' volume within 0.5 % of the default's (4 % on its 3.7k-vertex arm link).
+COACD_SEARCH = {"preprocess_resolution": 30, "mcts_iterations": 60, "mcts_max_depth": 2}
 METHOD_HULL = "hull"
 METHOD_GIVEN = "given pieces"
 METHOD_COACD = "coacd"
@@ -132,9 +137,10 @@ def _scale(scale: Sequence[float], path: Path) -> NDArray[np.float64]:
     return s
 
 
-def convex_hull(points: NDArray[np.float64]) -> trimesh.Trimesh | None:
+def convex_hull(points: NDArray[np.float64], lazy: bool = False) -> trimesh.Trimesh | None:
     """The closed convex hull of points, with at most MAX_PIECE_VERTICES vertices (see the
-    module docstring); None when the points span no volume."""
+    module docstring); None when the points span no volume. lazy: drop the flat vertices
+    with `without_flat_vertices_lazy` (CoACD's pieces)."""
     from scipy.spatial import ConvexHull, QhullError
 
     points = np.asarray(points, dtype=float).reshape(-1, 3)
@@ -142,7 +148,8 @@ def convex_hull(points: NDArray[np.float64]) -> trimesh.Trimesh | None:
         corners = points[ConvexHull(points).vertices]
         if len(corners) > MIN_KEPT_VERTICES:
             corners = reduced_hull_vertices(corners)
-        corners = without_flat_vertices(corners, PLANE_TOLERANCE)
+        drop = without_flat_vertices_lazy if lazy else without_flat_vertices
+        corners = drop(corners, PLANE_TOLERANCE)
         mesh = trimesh.convex.convex_hull(corners)
     except (QhullError, ValueError):
         return None
@@ -199,6 +206,34 @@ def without_flat_vertices(points: NDArray[np.float64], tolerance: float) -> NDAr
             break
         points = np.delete(points, lowest, axis=0)
     return points
+
+
+def without_flat_vertices_lazy(
+    points: NDArray[np.float64], tolerance: float
+) -> NDArray[np.float64]:
+    """`without_flat_vertices`, with each vertex's height kept from the round it was
+    measured in and measured again only when it is the lowest kept: one hull per drop
+    instead of one per vertex. Dropping a vertex mostly raises the others' heights, so
+    the order may differ from the exact one where it does not: every vertex dropped is
+    still within `tolerance` of the hull of the others when it goes. For CoACD's pieces
+    of a CAD mesh (hundreds of coplanar vertices), 58,000 hulls become about 1,000."""
+    import heapq
+
+    points = np.asarray(points, dtype=float)
+    alive = list(range(len(points)))
+    heap = [(_height_above_others(points, i), i) for i in alive]
+    heapq.heapify(heap)
+    while len(alive) > 4 and heap:
+        _stale, index = heapq.heappop(heap)
+        kept = points[alive]
+        height = _height_above_others(kept, alive.index(index))
+        if heap and (height, index) > heap[0]:
+            heapq.heappush(heap, (height, index))  # measured again: not the lowest now
+            continue
+        if height >= tolerance:
+            break
+        alive.remove(index)
+    return points[alive]
 
 
 def farthest_points(points: NDArray[np.float64], count: int) -> NDArray[np.float64]:
@@ -258,8 +293,10 @@ def _decomposed(mesh: trimesh.Trimesh, path: Path) -> tuple[list[trimesh.Trimesh
         threshold=COACD_THRESHOLD,
         max_ch_vertex=MAX_PIECE_VERTICES,
         seed=COACD_SEED,
+        **COACD_SEARCH,
     )
-    pieces = [h for h in (convex_hull(np.asarray(v)) for v, _ in parts) if h is not None]
+    hulls = (convex_hull(np.asarray(v), lazy=True) for v, _ in parts)
+    pieces = [h for h in hulls if h is not None]
     if not pieces:
         raise DescriptionError(f"mesh file {path}: the convex decomposition gave no piece")
     return pieces, METHOD_COACD
@@ -280,6 +317,7 @@ def _cache_key(source: Path, scale: Sequence[float], given: bool) -> str:
         NEARLY_CONVEX_RATIO,
         COACD_THRESHOLD,
         COACD_SEED,
+        sorted(COACD_SEARCH.items()),
     )
     digest.update(repr(parameters).encode())
     return digest.hexdigest()

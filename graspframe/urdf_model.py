@@ -212,6 +212,10 @@ def read_model(
     robot = ET.Element("robot", {"name": source.get("name", path.stem)})
     visuals: list[Visual] = []
     file_links = {e.get("name", "") for e in source.findall("link")}
+    # Links an arm's cut drops are never loaded: their meshes are not decomposed.
+    cut_links = set()
+    if cut_below is not None and cut_below.removeprefix(prefix) in file_links:
+        cut_links = descendants(source, cut_below.removeprefix(prefix))
     for name in tool_links:
         if name not in file_links:
             raise DescriptionError(
@@ -231,7 +235,8 @@ def read_model(
                 found = visual_of(name, visual, colours, urdf_dir, packages)
                 if found is not None:
                     visuals.append(found)
-            _convex_collisions(element, urdf_dir, packages)
+            if name not in cut_links:
+                _convex_collisions(element, urdf_dir, packages)
         robot.append(element)
     if prefix:
         _rename_in_place(robot, {n: prefix + n for n in _names(robot)})

@@ -187,7 +187,7 @@ def test_a_rerooted_hand_mounted_at_a_frame_holds_on_an_arm(
     request = RunRequest(
         hand=str(spec),
         arm="kuka" if arm == "kuka" else str(PANDA_SPEC),
-        grasp=HumanGrasp.SMALL_DIAMETER,
+        grasp=HumanGrasp.POWER_SPHERE,
         out_root=str(tmp_path / "runs"),
         record=False,
     )
