@@ -26,6 +26,8 @@ from graspframe.runner import run_grasp
 from graspframe.specs import load_spec
 from graspframe.transforms import R_from_rpy, inv_T, make_T, rpy_from_R
 
+# The tests that load the JACO2 share one xdist worker: its links are decomposed once.
+JACO2 = pytest.mark.xdist_group("jaco2")
 MOUNT_FRAME = """mount_link = "leap_mount"
 """
 
@@ -112,6 +114,7 @@ def test_a_hand_mounted_inside_itself_is_refused_naming_links_and_depth(
     assert "problem: bolted straight on: hand link 'palm_lower' is" in report
 
 
+@JACO2
 def test_the_shipped_mounts_touch_the_flange_at_most_by_the_tolerance(
     leap_hand_dir, panda_description_dir, kinova_description_dir
 ):
@@ -142,6 +145,7 @@ def test_a_mount_link_across_a_movable_joint_is_refused(leap_hand_dir, tmp_path)
         load_spec(path)
 
 
+@JACO2
 def test_the_jaco2_stands_on_its_base_and_carries_the_hand_along_link_6s_minus_z(
     kinova_description_dir,
 ):
@@ -162,6 +166,7 @@ def test_the_jaco2_stands_on_its_base_and_carries_the_hand_along_link_6s_minus_z
     assert all(math.isfinite(j.lower) and j.lower < 0 < j.upper for j in arm.joints[::3])
 
 
+@JACO2
 def test_an_arm_home_outside_its_limits_is_refused(kinova_description_dir, tmp_path):
     spec = JACO2_SPEC.read_text().replace(
         "home_q_deg = [0.0, 157.0, 287.0, 0.0, 130.0, 0.0]", "home_q_deg = [0, 0, 0, 0, 0, 0]"
@@ -197,6 +202,7 @@ def test_a_rerooted_hand_mounted_at_a_frame_holds_on_an_arm(
 
 
 @pytest.mark.slow
+@JACO2
 def test_the_jaco2_carries_a_built_in_hand_through_the_demo(kinova_description_dir, tmp_path):
     before = folder_state(kinova_description_dir)
     request = RunRequest(
