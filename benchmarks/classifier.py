@@ -32,7 +32,7 @@ from graspframe_hog_knn.database import (
 from graspframe_hog_knn.rotations import angle_deg
 from graspframe_hog_knn.views import GRASPS, HELD_OUT
 
-from graspframe.defaults import DEFAULT_CLASSIFIER
+from graspframe.common.defaults import DEFAULT_CLASSIFIER
 from graspframe.vision.common import NoHandFoundError
 
 TEST_SEED = 9_000_001  # never used for a database build

@@ -26,10 +26,10 @@ from pathlib import Path
 from graspframe_hog_knn.classifier import DEFAULT_K
 from graspframe_hog_knn.views import GRASPS
 
-from graspframe.defaults import DEFAULT_CLASSIFIER
-from graspframe.errors import GraspframeError
+from graspframe.common.defaults import DEFAULT_CLASSIFIER
+from graspframe.common.errors import GraspframeError
 from graspframe.hal import ClassifierOptions
-from graspframe.registry import get_classifier
+from graspframe.plugin_system.registry import get_classifier
 from graspframe.vision.images import read_image
 
 OTHER = "other"

@@ -4,7 +4,7 @@
 
 Starts `run`, `evaluate`, `db build` and `check-hand` in a process of their own, sends
 SIGINT once each is into its work (the moment the tests interrupt at,
-tests/test_interrupts.py), and prints the median wall time [s] from the signal to the
+tests/cli/test_interrupts.py), and prints the median wall time [s] from the signal to the
 process's exit, with the exit codes seen (130: interrupted). The target is 2 s.
 """
 

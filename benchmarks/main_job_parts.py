@@ -5,16 +5,15 @@ scoring and the recording.
 
 Runs `graspframe run --hand karlsruhe` (the bundled demo, recorded) in fresh processes:
 one unmeasured run that fills the cache, then `--repeats` measured ones. Each process
-times its own stages by wrapping the run's stage functions (run_stages.py) and the observers' calls
-(the recording), and the parent times the process. Prints the median of each part [s]
-and its share of the wall time. "inputs" is reading the request's names and files;
-"simulation" is the execution in the world without the recording's share; "other" is
-what no part covers in the process (the run folder, the summary); "start, exit" is
-Python's start and the process's exit. The parts count the modules a stage imports when
-it first needs them (SAPIEN in the simulation, rerun in the recording) in that stage;
-one more run under `python -X importtime` sums every import of the job, wherever it
-happens (importtime's own bookkeeping included).
-"""
+times its own stages by wrapping the run's stage functions (graspframe/run/stages.py)
+and the observers' calls (the recording), and the parent times the process. Prints the
+median of each part [s] and its share of the wall time. "inputs" is reading the
+request's names and files; "simulation" is the execution in the world without the
+recording's share; "other" is what no part covers in the process (the run folder, the
+summary); "start, exit" is Python's start and the process's exit. The parts count the
+modules a stage imports when it first needs them (SAPIEN in the simulation, rerun in the
+recording) in that stage; one more run under `python -X importtime` sums every import of
+the job, wherever it happens (importtime's own bookkeeping included)."""
 
 from __future__ import annotations
 
@@ -31,11 +30,11 @@ import time
 DRIVER = r"""
 import json, sys, time
 started = time.perf_counter()
-from graspframe.cli import main
-from graspframe.registry import Registry, default_registry
+from graspframe.cli.commands import main
+from graspframe.plugin_system.registry import Registry, default_registry
 default_registry()
-import graspframe.runner as runner
-import graspframe.snapshots  # the pictures' modules, imported by the runner
+import graspframe.run.runner as runner
+import graspframe.pictures.snapshots  # the pictures' modules, imported by the runner
 parts = {"imports": time.perf_counter() - started}
 recording = [0.0]
 
@@ -59,10 +58,10 @@ def observed(function):
             recording[0] += time.perf_counter() - since
     return wrapper
 
-import graspframe.run_request as run_request
+import graspframe.run.request as run_request
 run_request.resolve = timed("inputs", run_request.resolve)
 runner.write_json = timed("result.json", runner.write_json)
-import graspframe.run_stages as run_stages
+import graspframe.run.stages as run_stages
 run_stages.human_grasp = timed("vision", run_stages.human_grasp)
 run_stages.plan = timed("planning", run_stages.plan)
 run_stages.execute_in_world = timed("simulation", run_stages.execute_in_world)
@@ -99,7 +98,7 @@ def import_time_s() -> float:
     """Every module import of one main-job process [s]: the sum of the top-level imports'
     cumulative times that `python -X importtime` reports."""
     with tempfile.TemporaryDirectory(prefix="graspframe-bench-") as out:
-        command = [sys.executable, "-X", "importtime", "-m", "graspframe.cli"]
+        command = [sys.executable, "-X", "importtime", "-m", "graspframe.cli.commands"]
         done = subprocess.run(
             [*command, "run", "--hand", "karlsruhe", "--out", out], capture_output=True, text=True
         )

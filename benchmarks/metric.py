@@ -17,7 +17,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from graspframe.contacts import Contact
+from graspframe.common.contacts import Contact
 from graspframe.metrics import best_partition, compare, virtual_fingers_from_contacts
 
 SEED = 0

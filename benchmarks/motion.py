@@ -15,10 +15,10 @@ from collections.abc import Callable
 
 import numpy as np
 
-from graspframe.defaults import DEFAULT_ARM, SCENE_OBJECT_XY
+from graspframe.common.defaults import DEFAULT_ARM, SCENE_OBJECT_XY
 from graspframe.motion import IkSolver, JointLimits, OnlineTrajectory, plan_joint_trajectory
-from graspframe.mounting import mount
-from graspframe.registry import default_registry
+from graspframe.plugin_system.registry import default_registry
+from graspframe.robot_models.mounting import mount
 
 SEED = 0
 IK_TARGETS = 200
@@ -128,10 +128,10 @@ def simulation_real_time_factor(arm: str, hand: str) -> dict[str, float]:
     """A 5 s approach-and-close in SAPIEN: simulated seconds per wall-clock second."""
     from graspframe_sapien.backend import SapienBackend
 
+    from graspframe.common.transforms import R_from_rpy, make_T
     from graspframe.hal import WorldConfig
     from graspframe.motion.arm_motion import ArmMotion
-    from graspframe.registry import default_registry
-    from graspframe.transforms import R_from_rpy, make_T
+    from graspframe.plugin_system.registry import default_registry
 
     registry = default_registry()
     arm_d, hand_d = registry.get_arm(arm), registry.get_hand(hand)

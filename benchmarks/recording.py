@@ -18,7 +18,7 @@ import tempfile
 import time
 from pathlib import Path
 
-GRASPFRAME = [sys.executable, "-m", "graspframe.cli"]
+GRASPFRAME = [sys.executable, "-m", "graspframe.cli.commands"]
 
 
 def run_wall_s(hand: str, record: bool) -> float:

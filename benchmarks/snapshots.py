@@ -23,8 +23,8 @@ import time
 
 def _one_run(hand: str, out: str) -> None:
     """In this process: the main job with its snapshots.png timed; prints a JSON line."""
-    import graspframe.run_stages as run_stages
-    from graspframe.cli import main
+    import graspframe.run.stages as run_stages
+    from graspframe.cli.commands import main
 
     spent_s: list[float] = []
     draw = run_stages.draw_run_snapshots

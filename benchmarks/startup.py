@@ -26,7 +26,9 @@ from recording import run_wall_s  # the sibling script in benchmarks/
 
 # The installed console script beside this Python, as a user runs it.
 _SCRIPT = Path(sys.executable).parent / "graspframe"
-GRASPFRAME = [str(_SCRIPT)] if _SCRIPT.exists() else [sys.executable, "-m", "graspframe.cli"]
+GRASPFRAME = (
+    [str(_SCRIPT)] if _SCRIPT.exists() else [sys.executable, "-m", "graspframe.cli.commands"]
+)
 
 
 def help_wall_s() -> float:

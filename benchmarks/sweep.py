@@ -15,9 +15,9 @@ import tempfile
 import time
 from pathlib import Path
 
+from graspframe.common.grasps import HumanGrasp
 from graspframe.experiments.summary import summarize, write_tables
 from graspframe.experiments.sweep import SweepConfig, run_sweep
-from graspframe.grasps import HumanGrasp
 
 
 def sweep_time(hands: tuple[str, ...], directions: int, workers: int) -> tuple[float, int, Path]:

@@ -14,7 +14,7 @@ def model_path(relative: str) -> Path:
     """Absolute path of a model file under robots/, e.g. "kuka_kr5/kuka_kr5.urdf"."""
     path = Path(str(files(__name__).joinpath(relative)))
     if not path.is_file():
-        from graspframe.errors import DescriptionError
+        from graspframe.common.errors import DescriptionError
 
         raise DescriptionError(f"model file {relative!r} is not in the installed robots/ data")
     return path

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from graspframe.grasps import PALM, HumanGrasp
+from graspframe.common.grasps import PALM, HumanGrasp
 from graspframe.hal import DriveGains, HandDescription, HandPreshape, JointSpec
 
 FAKE_HAND_URDF = """<?xml version="1.0"?>

@@ -18,11 +18,11 @@ import matplotlib.pyplot as plt
 import numpy as np
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-from graspframe.grasps import PALM
-from graspframe.registry import default_registry
-from graspframe.robot_model import CollisionModel
-from graspframe.shapes import geometry_mesh
-from graspframe.transforms import inv_T
+from graspframe.common.grasps import PALM
+from graspframe.common.transforms import inv_T
+from graspframe.plugin_system.registry import default_registry
+from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.shapes import geometry_mesh
 
 OUT_DIR = Path(__file__).parents[1] / "docs" / "images"
 FINGER_COLOURS = ["#d95f02", "#1b9e77", "#7570b3", "#e7298a", "#66a61e", "#e6ab02"]

@@ -18,10 +18,10 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from graspframe.common.grasps import HumanGrasp
 from graspframe.experiments.sweep import load_finished
 from graspframe.experiments.trials import CONDITION_A, TrialRow, swept_object
-from graspframe.grasps import HumanGrasp
-from graspframe.registry import default_registry
+from graspframe.plugin_system.registry import default_registry
 
 
 def _outcome(trial: TrialRow) -> str:

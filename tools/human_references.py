@@ -17,9 +17,9 @@ from pathlib import Path
 
 from graspframe_human.taxonomy import contact_problems
 
-from graspframe.defaults import DEFAULT_BACKEND
-from graspframe.grasps import HumanGrasp
-from graspframe.registry import default_registry
+from graspframe.common.defaults import DEFAULT_BACKEND
+from graspframe.common.grasps import HumanGrasp
+from graspframe.plugin_system.registry import default_registry
 from graspframe.strategy.human_reference import simulate_human_grasp
 
 

@@ -13,9 +13,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.defaults import STRATEGY_METHOD
+from graspframe.common.defaults import STRATEGY_METHOD
+from graspframe.common.files import atomic_output, atomic_write
 from graspframe.experiments.trials import TrialRow, TrialSpec, swept_object
-from graspframe.files import atomic_output, atomic_write
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

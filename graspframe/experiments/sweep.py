@@ -20,8 +20,9 @@ from itertools import product
 from pathlib import Path
 from typing import Any
 
-from graspframe.defaults import DEFAULT_ARM, MOUNT_ARM, MOUNTS, STRATEGIES, STRATEGY_METHOD
-from graspframe.errors import InputError, OutputError
+from graspframe.common.defaults import DEFAULT_ARM, MOUNT_ARM, MOUNTS, STRATEGIES, STRATEGY_METHOD
+from graspframe.common.errors import InputError, OutputError
+from graspframe.common.files import make_folder, os_reason
 from graspframe.experiments.trials import (
     CONDITION_A,
     TRIAL_TIME_LIMIT,
@@ -32,7 +33,6 @@ from graspframe.experiments.trials import (
     run_trial_isolated,
 )
 from graspframe.experiments.workers import run_in_workers
-from graspframe.files import make_folder, os_reason
 
 EXECUTORS = ("local", "dask")
 TRIALS_FILE = "trials.jsonl"
@@ -98,8 +98,8 @@ class SweepConfig:
 
 def plan_trials(config: SweepConfig) -> list[TrialSpec]:
     """Every trial: per mount, hand and grasp, A, then B0.., then A at each size."""
-    from graspframe.grasps import HumanGrasp
-    from graspframe.registry import default_registry
+    from graspframe.common.grasps import HumanGrasp
+    from graspframe.plugin_system.registry import default_registry
 
     runs_dir = str(Path(config.out_dir) / "runs")
     conditions = [(CONDITION_A, (0.0, 0.0))]
@@ -141,7 +141,7 @@ def object_grasps(name: str) -> tuple[str, ...]:
     """The grasps a person would use on the registered object `name`
     (`ObjectDescription.documented_grasps`; UnknownNameError for an unknown name,
     listing the known ones)."""
-    from graspframe.registry import default_registry
+    from graspframe.plugin_system.registry import default_registry
 
     return tuple(g.value for g in default_registry().get_object(name).documented_grasps())
 

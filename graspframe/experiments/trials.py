@@ -17,8 +17,8 @@ from dataclasses import asdict, dataclass, fields
 from multiprocessing.connection import Connection
 from typing import Any
 
-from graspframe.defaults import DEFAULT_ARM, MOUNT_ARM, STRATEGY_METHOD
-from graspframe.grasps import HumanGrasp
+from graspframe.common.defaults import DEFAULT_ARM, MOUNT_ARM, STRATEGY_METHOD, Mount, Strategy
+from graspframe.common.grasps import HumanGrasp
 
 CONDITION_A = "A"
 TRIAL_TIME_LIMIT = 300.0  # [s] wall time before a trial is killed and recorded as failed
@@ -171,21 +171,21 @@ _NUMBERS = tuple(
 
 def run_trial(spec: TrialSpec) -> TrialRow:
     """Run the grasp of `spec` in this process; the row of numbers for the summary."""
-    from graspframe.run_request import RunRequest
-    from graspframe.runner import run_grasp
+    from graspframe.run.request import RunRequest
+    from graspframe.run.runner import run_grasp
 
     started = time.perf_counter()
     request = RunRequest(
         hand=spec.hand,
         grasp=HumanGrasp.parse(spec.grasp),
         arm=spec.arm,
-        mount=spec.mount,
+        mount=Mount.parse(spec.mount),
         object=spec.object,
         object_error=spec.object_error,
         seed=spec.seed,
         out_root=spec.runs_dir,
         record=spec.record,
-        strategy=spec.strategy,
+        strategy=Strategy.parse(spec.strategy),
         camera_noise=spec.camera_noise,
     )
     try:

@@ -149,8 +149,8 @@ def _serve(connection: Connection) -> None:
     # Ctrl-C reaches the whole process group: the supervisor decides what stops.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     _exit_with_supervisor()
-    import graspframe.runner  # noqa: F401  the heavy imports (simulator, kinematics), once
-    from graspframe.registry import default_registry
+    import graspframe.run.runner  # noqa: F401  the heavy imports (simulator, kinematics), once
+    from graspframe.plugin_system.registry import default_registry
 
     default_registry()
     connection.send(READY)

@@ -1,7 +1,9 @@
-"""The hardware abstraction layer: descriptions (what a robot is) and drivers (how to move
-it), and the interfaces of the other things plugins provide (classifiers, viewers,
-commands)."""
+"""The hardware abstraction layer: descriptions (what a robot and an object are), drivers
+(how to move them in a world) and the classifier's interface. It imports no CLI library
+and no simulator; the interfaces of plugin commands and viewers are in
+`graspframe.plugin_system`."""
 
+from graspframe.common.moved_modules import moved_name
 from graspframe.hal.classifier import (
     Classifier,
     ClassifierOptions,
@@ -9,7 +11,6 @@ from graspframe.hal.classifier import (
     HumanGraspEstimate,
     Neighbour,
 )
-from graspframe.hal.commands import PluginCommand
 from graspframe.hal.descriptions import (
     AdapterShape,
     ArmDescription,
@@ -25,7 +26,19 @@ from graspframe.hal.descriptions import (
 from graspframe.hal.drivers import ArmDriver, Backend, HandDriver, ObjectProbe, World, WorldConfig
 from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.hal.objects import ObjectDescription
-from graspframe.hal.viewer import Viewer
+
+# PluginCommand and Viewer were exported here: they still import, with a DeprecationWarning.
+_MOVED_NAMES = {
+    "PluginCommand": "graspframe.plugin_system.commands",
+    "Viewer": "graspframe.plugin_system.viewer",
+}
+
+
+def __getattr__(name: str) -> object:
+    if name in _MOVED_NAMES:
+        return moved_name(__name__, name, _MOVED_NAMES[name])
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = [
     "AdapterShape",
@@ -48,8 +61,6 @@ __all__ = [
     "Neighbour",
     "ObjectDescription",
     "ObjectProbe",
-    "PluginCommand",
-    "Viewer",
     "World",
     "WorldConfig",
     "joints_by_name",

@@ -61,6 +61,20 @@ def datasheet_arm(
 ) -> ArmDescription:
     """The arm whose model is `model_file` of robots/ (graspframe_robots), with its links
     (base, flange), `joints`, home pose [rad] and the assumed drive."""
+    return bundled_arm(name, model_file, links, joints, home_q, datasheet_drive(joints), summary)
+
+
+def bundled_arm(
+    name: str,
+    model_file: str,
+    links: tuple[str, str],
+    joints: tuple[JointSpec, ...],
+    home_q: tuple[float, ...],
+    drive: DriveGains,
+    summary: str,
+) -> ArmDescription:
+    """The arm whose model ships as `model_file` of robots/ (graspframe_robots), with its
+    links (base, flange), `joints`, home pose [rad] and `drive`."""
     from graspframe_robots import model_path
 
     base_link, flange_link = links
@@ -71,6 +85,6 @@ def datasheet_arm(
         flange_link=flange_link,
         joints=joints,
         home_q=home_q,
-        drive=datasheet_drive(joints),
+        drive=drive,
         summary=summary,
     )

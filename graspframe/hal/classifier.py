@@ -9,7 +9,7 @@ from typing import ClassVar, Self
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.grasps import HumanGrasp
+from graspframe.common.grasps import HumanGrasp
 
 
 @dataclass(frozen=True)

@@ -19,21 +19,9 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
+from graspframe.common.camera import Camera
+from graspframe.common.moved_modules import moved_name
 from graspframe.hal.drivers import World, WorldConfig
-
-
-@dataclass(frozen=True)
-class Intrinsics:
-    """Pinhole intrinsics: the image's width and height [px], focal lengths fx, fy and
-    principal point cx, cy [px] (pixel (column, row) covers [column, column + 1) x
-    [row, row + 1); its centre is at + 0.5)."""
-
-    width: int
-    height: int
-    fx: float
-    fy: float
-    cx: float
-    cy: float
 
 
 @dataclass(frozen=True)
@@ -42,7 +30,7 @@ class CameraMount:
     with `flange_frame` set, `T_flange_camera` on that link of the robot (a wrist
     camera); `intrinsics`: pixels and focal lengths."""
 
-    intrinsics: Intrinsics
+    intrinsics: Camera
     T_world_camera: NDArray[np.float64] | None = None
     flange_frame: str | None = None
     T_flange_camera: NDArray[np.float64] | None = None
@@ -54,7 +42,7 @@ class DepthImage:
     camera's intrinsics and its pose in the world when the image was taken."""
 
     depth_m: NDArray[np.float32]
-    intrinsics: Intrinsics
+    intrinsics: Camera
     T_world_camera: NDArray[np.float64]
 
     def points_camera(self) -> NDArray[np.float64]:
@@ -92,3 +80,10 @@ class DepthCamera(ABC):
     def capture(self, world: World) -> DepthImage:
         """One depth image of the world as it is now (robot, object and table; the
         hand and arm occlude what lies behind them)."""
+
+
+def __getattr__(name: str) -> object:
+    # `Intrinsics` was this module's pinhole camera: it is graspframe.common.camera.Camera.
+    if name == "Intrinsics":
+        return moved_name(__name__, name, "graspframe.common.camera", new_name="Camera")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

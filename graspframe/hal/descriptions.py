@@ -10,6 +10,7 @@ a particular robot.
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -17,13 +18,14 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from graspframe.errors import DescriptionError, UnknownNameError
-from graspframe.grasps import HumanGrasp
+from graspframe.common.errors import DescriptionError, UnknownNameError
+from graspframe.common.grasps import HumanGrasp
 from graspframe.hal.mountings import AdapterShape, Mounting
-from graspframe.urdf_model import FrameOffset, UrdfModel, description_model
+from graspframe.model_files.urdf_model import FrameOffset, UrdfModel, description_model
 
 FINGERTIP_FRAMES_KEY = "fingertip_frames"
-"""The key of `HandDescription.extras` naming each real finger's fingertip frame."""
+"""The key of `HandDescription.extras` that named each real finger's fingertip frame
+before `HandDescription.fingertip_frames` did (still read, with a DeprecationWarning)."""
 
 __all__ = [
     "FINGERTIP_FRAMES_KEY",
@@ -206,11 +208,11 @@ class HandDescription:
     """A robot (or human) hand.
 
     model_path: URDF file of the hand alone, as shipped (meshes, visuals, package://
-        names: graspframe/urdf_model.py).
+        names: graspframe/model_files/urdf_model.py).
     root_link: the mount link: the link (or added frame, one of `frames`) bolted to the
         arm's flange, its origin on the mounting interface, +z away from the arm (or the
         link that floats freely). The model is rooted there whatever link the file is
-        rooted at (graspframe/urdf_tree.py).
+        rooted at (graspframe/model_files/urdf_tree.py).
     joints: every actuated joint, followers of in-model couplings excluded.
     couplings: joint couplings (see `Coupling`).
     palm_frame: a link whose frame is the palm frame: origin at the centre of the palm
@@ -224,10 +226,10 @@ class HandDescription:
     grasp_map: every HumanGrasp -> a preshape name (for the human hand: its posture).
     drive: PD gains for the simulated finger drives.
     mass: [kg] total, informative.
-    extras: further facts about the hand, by key. The one key graspframe reads is
-        FINGERTIP_FRAMES_KEY (through `fingertip_frames`): real finger name -> the link
-        or added frame at that finger's tip, for each finger (not the palm); the contract
-        checks that they are links of the model.
+    extras: further facts about the hand, by key, for plugins (graspframe reads none).
+    fingertip_frames: real finger name -> the link or added frame at that finger's tip,
+        for each finger (not the palm); the contract checks that they are links of the
+        model. Empty when the hand does not name them.
     mountings: name -> `Mounting`: adapters the planner may put between the arm flange
         and the hand, in this order, when the arm finds no path with the hand's root link
         bolted straight onto the flange (graspframe/strategy/arm_path.py).
@@ -251,9 +253,29 @@ class HandDescription:
     mass: float = 0.0
     summary: str = ""
     extras: Mapping[str, object] = field(default_factory=dict)
+    fingertip_frames: Mapping[str, str] = field(default_factory=dict)
     mountings: Mapping[str, Mounting] = field(default_factory=dict)
     packages: Mapping[str, Path] = field(default_factory=dict)
     frames: Mapping[str, FrameOffset] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        frames = self.fingertip_frames
+        if not frames and FINGERTIP_FRAMES_KEY in self.extras:
+            warnings.warn(
+                f"hand {self.name!r}: extras[{FINGERTIP_FRAMES_KEY!r}] is deprecated: give "
+                "HandDescription(fingertip_frames=...)",
+                DeprecationWarning,
+                stacklevel=3,
+            )
+            frames = self.extras[FINGERTIP_FRAMES_KEY]  # type: ignore[assignment]
+        if not isinstance(frames, Mapping) or not all(
+            isinstance(finger, str) and isinstance(frame, str) for finger, frame in frames.items()
+        ):
+            raise DescriptionError(
+                f"hand {self.name!r}: fingertip_frames must map real finger names to frame "
+                f"names, got {frames!r}"
+            )
+        object.__setattr__(self, "fingertip_frames", dict(frames))
 
     @property
     def joint_names(self) -> tuple[str, ...]:
@@ -309,20 +331,6 @@ class HandDescription:
                 full[c.follower] = c.multiplier * full[c.leader] + c.offset
         return full
 
-    @property
-    def fingertip_frames(self) -> dict[str, str]:
-        """Real finger name -> the link or added frame at its tip
-        (`extras[FINGERTIP_FRAMES_KEY]`); empty when the hand does not name them."""
-        frames = self.extras.get(FINGERTIP_FRAMES_KEY, {})
-        if not isinstance(frames, Mapping) or not all(
-            isinstance(finger, str) and isinstance(frame, str) for finger, frame in frames.items()
-        ):
-            raise DescriptionError(
-                f"hand {self.name!r}: extras[{FINGERTIP_FRAMES_KEY!r}] must map real finger names "
-                f"to frame names, got {frames!r}"
-            )
-        return dict(frames)
-
     def finger_of_link(self) -> dict[str, str]:
         """link name -> real finger name."""
         return {link: finger for finger, links in self.real_fingers.items() for link in links}
@@ -336,7 +344,7 @@ class HandDescription:
 class ArmDescription:
     """A robot arm.
 
-    model_path: URDF file of the arm, as shipped (graspframe/urdf_model.py).
+    model_path: URDF file of the arm, as shipped (graspframe/model_files/urdf_model.py).
     base_link: the link (or added frame) fixed to the world; the model is rooted there
         whatever link the file is rooted at.
     flange_link: the tool flange link (+z out of the flange); a hand's root link is

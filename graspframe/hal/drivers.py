@@ -16,8 +16,8 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.contacts import Contact, PalmSensorReading
-from graspframe.errors import GraspframeError
+from graspframe.common.contacts import Contact, PalmSensorReading
+from graspframe.common.errors import GraspframeError
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.hal.objects import ObjectDescription
@@ -29,7 +29,7 @@ class WorldConfig:
 
     hand: the hand, mounted on the arm of `robot` or floating freely.
     robot: the hand fixed to an arm's flange (`MountedRobot`, built by
-        `graspframe.mounting.mount`): the arm, the pose of the hand on the flange, any
+        `graspframe.robot_models.mounting.mount`): the arm, the pose of the hand on the flange, any
         adapter, and the combined model file a backend loads. The core mounts the hand;
         a backend only reads the result. None: a free-floating hand (placed with
         `HandDriver.set_free_pose`).

@@ -21,7 +21,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from graspframe.errors import GraspframeError, UnknownNameError
+from graspframe.common.errors import GraspframeError, UnknownNameError
 from graspframe.hal.descriptions import DriveGains, HandDescription
 
 # While a breakaway holds a leader joint, its drive is this much stiffer (the Barrett's

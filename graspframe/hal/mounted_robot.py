@@ -1,6 +1,6 @@
 """`MountedRobot`: a hand fixed to an arm's flange, as data (what `WorldConfig.robot`
-carries to a backend). graspframe/mounting.py builds it: the names, the pose of the hand
-on the flange and the combined model."""
+carries to a backend). graspframe/robot_models/mounting.py builds it: the names, the
+pose of the hand on the flange and the combined model."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.hal.descriptions import ArmDescription, HandDescription
-from graspframe.urdf_model import UrdfModel
+from graspframe.model_files.urdf_model import UrdfModel
 
 
 @dataclass(frozen=True)

@@ -11,9 +11,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from graspframe.errors import DescriptionError
+from graspframe.common.errors import DescriptionError
+from graspframe.common.transforms import as_pose
 from graspframe.hal.objects import SHAPES
-from graspframe.transforms import as_pose
 
 
 @dataclass(frozen=True)

@@ -3,7 +3,7 @@
 An object is a primitive (box, cylinder, sphere, given by its dimensions) or a mesh (a
 mesh file, e.g. a scan, with its mass or density). A mesh object's geometry (its frame at
 the centroid, rest pose, convex pieces, volume, inertia) is computed from the file once
-per process by graspframe/mesh_geometry.py, when it is first needed.
+per process by graspframe/model_files/mesh_geometry.py, when it is first needed.
 """
 
 from __future__ import annotations
@@ -15,14 +15,15 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
-from graspframe.errors import DescriptionError
-from graspframe.files import MESH_SUFFIXES, mesh_file
-from graspframe.grasps import HumanGrasp
+from graspframe.common.defaults import TABLE_HEIGHT
+from graspframe.common.errors import DescriptionError
+from graspframe.common.files import MESH_SUFFIXES, mesh_file
+from graspframe.common.grasps import HumanGrasp
 
 if TYPE_CHECKING:
-    from graspframe.mesh_geometry import MeshGeometry
+    from graspframe.model_files.mesh_geometry import MeshGeometry
 
 SHAPES = {
     "box": ("size_x", "size_y", "size_z"),
@@ -46,11 +47,11 @@ class ObjectDescription:
     grasps: the grasps a person would use on this object, what `graspframe evaluate
         --objects` runs (empty: those it is the default for).
     mesh_path: a mesh object's mesh file (OBJ, STL, GLB, PLY): its visual mesh, in
-        metres after `scale`, z up as it stands (see graspframe/mesh_geometry.py for
+        metres after `scale`, z up as it stands (see graspframe/model_files/mesh_geometry.py for
         the object frame and the rest pose).
     collision_path: optional file of the mesh's convex pieces (e.g. a V-HACD
         decomposition, its connected parts the pieces); without it they are computed
-        (graspframe/convex.py).
+        (graspframe/model_files/convex.py).
     scale: per-axis factor on the mesh files' coordinates (e.g. 0.001 for millimetres).
     density: [kg/m^3] of a mesh object given without its mass.
     """
@@ -147,11 +148,11 @@ class ObjectDescription:
         return self.shape == MESH
 
     def mesh_geometry(self) -> MeshGeometry:
-        """A mesh object's geometry (graspframe/mesh_geometry.py; computed once per
+        """A mesh object's geometry (graspframe/model_files/mesh_geometry.py; computed once per
         process). DescriptionError for a primitive, or a mesh file that cannot be used."""
         if not self.is_mesh:
             raise DescriptionError(f"object {self.name!r} is a {self.shape}, not a mesh")
-        from graspframe.mesh_geometry import mesh_geometry
+        from graspframe.model_files.mesh_geometry import mesh_geometry
 
         assert self.mesh_path is not None
         return mesh_geometry(self.mesh_path, self.collision_path, self.scale)
@@ -200,7 +201,7 @@ class ObjectDescription:
     @property
     def symmetric_about_z(self) -> bool:
         """True when any turn about the object's z axis leaves it unchanged (a mesh:
-        within the tolerance of graspframe/mesh_geometry.py)."""
+        within the tolerance of graspframe/model_files/mesh_geometry.py)."""
         if self.is_mesh:
             return self.mesh_geometry().symmetric_about_z
         return self.shape in ("cylinder", "sphere")
@@ -239,6 +240,15 @@ class ObjectDescription:
         if self.is_mesh:
             return float(-self.mesh_geometry().bounds[0, 2])
         return self.half_extents[2]
+
+    def T_world_standing(
+        self, xy: tuple[float, float] = (0.0, 0.0), table_height: float = TABLE_HEIGHT
+    ) -> NDArray[np.float64]:
+        """The object standing upright on the table top at world (x, y) [m]: its pose in
+        the world, where every scene, check and reference puts an object."""
+        T = np.eye(4)
+        T[:3, 3] = (xy[0], xy[1], table_height + self.half_height)
+        return T
 
 
 def _primitive_inertia_per_mass(shape: str, d: Mapping[str, float]) -> np.ndarray:

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from graspframe.grasps import HumanGrasp
+from graspframe.common.grasps import HumanGrasp
 
 if TYPE_CHECKING:  # objects.py asks this module when an object names no grasp
     from graspframe.hal.objects import ObjectDescription

@@ -1,6 +1,6 @@
 """Grasp metrics: pure functions on plain arrays, usable on contacts from any source."""
 
-from graspframe.errors import NoContactsError
+from graspframe.common.errors import NoContactsError
 from graspframe.metrics.cohesion import (
     Partition,
     best_partition,

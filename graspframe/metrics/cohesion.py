@@ -26,7 +26,7 @@ import numpy as np
 from more_itertools import set_partitions
 from numpy.typing import ArrayLike
 
-from graspframe.errors import GraspframeError, NoContactsError
+from graspframe.common.errors import GraspframeError, NoContactsError
 from graspframe.metrics.vectors import Vectors, force_direction, force_directions
 
 TIE_TOL = 1e-12

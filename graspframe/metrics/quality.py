@@ -39,7 +39,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import ConvexHull
 
-from graspframe.errors import GraspframeError
+from graspframe.common.errors import GraspframeError
 
 DEFAULT_EDGES = 8  # sides of the pyramid that stands in for each friction cone
 SPACES = ("wrench", "force")

@@ -12,10 +12,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from graspframe.contacts import WORLD, Contact
-from graspframe.errors import GraspframeError
+from graspframe.common.contacts import WORLD, Contact
+from graspframe.common.errors import GraspframeError
+from graspframe.common.transforms import as_pose
 from graspframe.metrics.vectors import Vectors, checked_unit_vectors, checked_vectors
-from graspframe.transforms import as_pose
 
 
 @dataclass(frozen=True, eq=False)
@@ -69,7 +69,9 @@ def group_by_real_finger(
     rows: dict[str, list[Contact]] = {}
     for contact in contacts:
         if not isinstance(contact, Contact):
-            raise GraspframeError(f"expected graspframe.contacts.Contact, got {type(contact)}")
+            raise GraspframeError(
+                f"expected graspframe.common.contacts.Contact, got {type(contact)}"
+            )
         if contact.frame == WORLD:
             if T is None:
                 raise GraspframeError("world-frame contacts need T_world_object")

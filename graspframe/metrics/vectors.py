@@ -12,7 +12,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from graspframe.errors import GraspframeError
+from graspframe.common.errors import GraspframeError
 
 UNIT_NORMAL_TOL = 1e-4
 """A normal is accepted as unit when | |n| - 1 | <= this."""

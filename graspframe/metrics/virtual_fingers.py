@@ -28,8 +28,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import linear_sum_assignment
 
-from graspframe.contacts import Contact
-from graspframe.errors import GraspframeError, NoContactsError
+from graspframe.common.contacts import Contact
+from graspframe.common.errors import GraspframeError, NoContactsError
+from graspframe.common.json_files import jsonable
 from graspframe.metrics.cohesion import Partition, best_partition, cohesive_index
 from graspframe.metrics.real_fingers import RealFingerContacts, group_by_real_finger
 from graspframe.metrics.vectors import (
@@ -38,7 +39,6 @@ from graspframe.metrics.vectors import (
     checked_unit_vectors,
     checked_vectors,
 )
-from graspframe.results import jsonable
 
 MIN_MEAN_NORMAL = 1e-6
 """Length of the mean of unit normals below which a virtual finger has no orientation."""

@@ -19,14 +19,14 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.contacts import Contact
-from graspframe.errors import GraspframeError, MotionError
+from graspframe.common.contacts import Contact
+from graspframe.common.errors import GraspframeError, MotionError
+from graspframe.common.transforms import inv_T
 from graspframe.hal.drivers import World
 from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.motion.ik import IkSolver, describe_pose
 from graspframe.motion.palm_line import PalmLine
 from graspframe.motion.trajectory import JointLimits, OnlineTrajectory
-from graspframe.transforms import inv_T
 
 CONTROL_PERIOD = 0.01  # [s] 100 Hz arm control
 SETTLE_TIME_LIMIT = 3.0  # [s] longest wait for a braking or finishing move to come to rest

@@ -7,7 +7,7 @@ A `RobotCollisionChecker` reads a URDF's collision shapes once (Pinocchio, mimic
 cylinder or sphere, or a mesh object's convex pieces, fixed in the world) as shapes of
 the universe, and registers one collision pair per (robot shape, obstacle shape).
 Robot-robot pairs are never checked. A mesh object is checked as the same convex pieces
-the simulator builds it from (graspframe/convex.py), one coal Convex each.
+the simulator builds it from (graspframe/model_files/convex.py), one coal Convex each.
 
 Obstacles are expressed in the URDF root frame (`T_root_obstacle = T_world_root^-1
 T_world_obstacle`), so moving the robot root and the obstacles by one rigid transform
@@ -45,13 +45,13 @@ import numpy as np
 import trimesh
 from numpy.typing import ArrayLike, NDArray
 
-from graspframe.defaults import TABLE_HALF_SIZE
-from graspframe.errors import GraspframeError, UnknownNameError
+from graspframe.common.defaults import TABLE_HALF_SIZE
+from graspframe.common.errors import GraspframeError, UnknownNameError
+from graspframe.common.transforms import as_pose, inv_T, make_T
 from graspframe.hal.objects import MESH, SHAPES, ObjectDescription
-from graspframe.robot_model import collision_geometry_model, load_pinocchio_model
-from graspframe.shapes import coal_convex, coal_geometry
-from graspframe.transforms import as_pose, inv_T, make_T
-from graspframe.urdf_model import UrdfModel
+from graspframe.model_files.urdf_model import UrdfModel
+from graspframe.robot_models.model import collision_geometry_model, load_pinocchio_model
+from graspframe.robot_models.shapes import coal_convex, coal_geometry
 
 DEFAULT_MARGIN = 0.005  # [m] a robot link closer than this to an obstacle collides
 TABLE = "table"

@@ -34,9 +34,9 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from graspframe.errors import GraspframeError, MotionError
+from graspframe.common.errors import GraspframeError, MotionError
+from graspframe.common.transforms import as_pose, inv_T, rpy_from_R
 from graspframe.hal.mounted_robot import MountedRobot
-from graspframe.transforms import as_pose, inv_T, rpy_from_R
 
 POSITION_TOLERANCE = 1e-4  # [m] iterate until the palm position error is below this
 ORIENTATION_TOLERANCE = 1e-3  # [rad] ... and the palm orientation error below this

@@ -17,7 +17,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from graspframe.urdf_model import UrdfModel
+from graspframe.model_files.urdf_model import UrdfModel
 
 TOLERANCE_DEG = 2.0  # [deg] a revolute joint past its limit by more than this is reported
 TOLERANCE_MM = 2.0  # [mm] ... a prismatic joint
@@ -107,7 +107,7 @@ class LimitExcess:
 
     @classmethod
     def from_json(cls, data: Mapping[str, Any]) -> LimitExcess:
-        """The excess from its JSON values (graspframe.results.jsonable of one: every
+        """The excess from its JSON values (graspframe.common.json_files.jsonable of one: every
         field, in [rad] and [m]), as a cached human reference keeps it."""
         limit = data["limit"]
         return cls(

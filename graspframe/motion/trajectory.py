@@ -16,7 +16,7 @@ import numpy as np
 import ruckig
 from numpy.typing import ArrayLike, NDArray
 
-from graspframe.errors import GraspframeError
+from graspframe.common.errors import GraspframeError
 from graspframe.hal.descriptions import ArmDescription
 
 Vector = NDArray[np.float64]

@@ -21,7 +21,7 @@ from scipy.spatial import cKDTree
 
 from graspframe.hal.depth_camera import DepthImage
 from graspframe.hal.objects import ObjectDescription
-from graspframe.shapes import object_mesh
+from graspframe.robot_models.shapes import object_mesh
 
 SEARCH_RADIUS = 0.12  # [m] horizontal, around the believed position
 ABOVE_TABLE = 0.008  # [m] points lower than this above the table top are the table

@@ -9,11 +9,11 @@ from collections.abc import Mapping
 import numpy as np
 from numpy.typing import NDArray
 
+from graspframe.common.transforms import inv_T
 from graspframe.hal.depth_camera import DepthImage
+from graspframe.model_files.urdf_model import UrdfModel
 from graspframe.pictures.render3d import renderer
 from graspframe.pictures.robot_scene import RobotFigure
-from graspframe.transforms import inv_T
-from graspframe.urdf_model import UrdfModel
 
 # [m] a measured pixel this close to (or in front of) the robot's rendered surface is the
 # robot: several times the sensor's noise at 1 m (perception/depth_noise.py).

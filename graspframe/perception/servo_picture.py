@@ -17,10 +17,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from graspframe.files import atomic_output
+from graspframe.common.files import atomic_output
+from graspframe.common.transforms import inv_T
 from graspframe.hal.depth_camera import DepthImage
 from graspframe.perception.localise import ObjectModel
-from graspframe.transforms import inv_T
 
 if TYPE_CHECKING:  # the servo strategy draws its steps with this module
     from graspframe.perception.servo_step import ServoStep

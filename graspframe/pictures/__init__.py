@@ -2,7 +2,7 @@
 
 - `meshes.py`: a robot model's display meshes per link (the vendor's visual meshes,
   decoded and decimated once per process, and the collision shapes), in link frames;
-- `render3d.py`: meshes placed in the world -> shaded views (graspframe/render.py's
+- `render3d.py`: meshes placed in the world -> shaded views (graspframe/pictures/rasteriser.py's
   rasteriser, one per process), cameras, projecting points into a view;
 - `style.py`: the colours every picture shares (real fingers, arm, object, table,
   contacts, palm axes);
@@ -15,5 +15,5 @@
 - `inputs.py`: checks of what the picture functions are given (one-line InputErrors);
 - `hand_grasp.py`: `draw_hand_grasp`, one hand closed around an object (check-hand).
 
-`graspframe/snapshots.py` (the run's snapshots.png) is built from the same parts.
+`graspframe/pictures/snapshots.py` (the run's snapshots.png) is built from the same parts.
 """

@@ -27,11 +27,13 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import GraspframeError, InputError
+from graspframe.common.errors import GraspframeError, InputError
+from graspframe.common.transforms import as_pose, inv_T
 from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.objects import ObjectDescription
+from graspframe.model_files.urdf_model import UrdfModel
 from graspframe.pictures import style
-from graspframe.pictures.inputs import checked_figure, checked_object_soup, contact_points, pose
+from graspframe.pictures.inputs import checked_figure, checked_object_soup, contact_points
 from graspframe.pictures.panel import (
     FOV_DEG,
     PALM_VIEW_DIRECTION,
@@ -40,8 +42,6 @@ from graspframe.pictures.panel import (
 )
 from graspframe.pictures.render3d import Camera, Placed, box_corners, fit_view
 from graspframe.pictures.sheet import compose, write_png
-from graspframe.transforms import inv_T
-from graspframe.urdf_model import UrdfModel
 
 PANEL_PX = 400  # [px] side of a square panel
 SIDE_VIEW_DIRECTION = (0.0, -1.0, 0.36)  # palm frame: from -y, 20 deg above the palm plane
@@ -69,7 +69,7 @@ def draw_hand_grasp(
     the picture is in the palm frame). InputError (one line) for unusable input.
     """
     path = Path(path)
-    T_palm_object = pose(T_palm_object, "T_palm_object")
+    T_palm_object = as_pose(T_palm_object, "T_palm_object")
     contacts_palm = contact_points(contact_points_palm, contact_fingers, "contact_points_palm")
     object_soup = checked_object_soup(obj, "hand picture")
     colours = style.finger_colours(hand.finger_of_link())

@@ -7,20 +7,9 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import GraspframeError, InputError
+from graspframe.common.errors import GraspframeError, InputError
 from graspframe.hal.objects import ObjectDescription
 from graspframe.pictures.render3d import Soup
-
-
-def pose(value, what: str) -> NDArray[np.float64]:
-    """`value` as a finite 4x4 pose; InputError naming `what` otherwise."""
-    try:
-        T = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{what} must be a 4x4 matrix of numbers") from None
-    if T.shape != (4, 4) or not np.all(np.isfinite(T)):
-        raise InputError(f"{what} must be a finite 4x4 matrix, got shape {T.shape}")
-    return T
 
 
 def contact_points(points, fingers: Sequence[str], what: str) -> NDArray[np.float64]:

@@ -9,7 +9,7 @@ Two kinds per link:
   file (the LEAP palm's 87k triangles become 2.5k, in 6 mm clusters: its flat faces and
   edges stay, its screw holes go; a finger segment of 30k becomes 3k);
 - collision: the collision shapes as Pinocchio and coal hold them
-  (`graspframe.shapes.geometry_mesh`: primitives, and the convex pieces of collision
+  (`graspframe.robot_models.shapes.geometry_mesh`: primitives, and the convex pieces of collision
   meshes), i.e. the geometry the simulator and the collision checks use.
 
 `robot_meshes(model)` computes both once per model and process. Pictures draw a link's
@@ -28,11 +28,11 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import DescriptionError
-from graspframe.shapes import geometry_mesh, primitive_mesh
-from graspframe.transforms import inv_T, transform_points
-from graspframe.urdf_elements import Visual
-from graspframe.urdf_model import UrdfModel
+from graspframe.common.errors import DescriptionError
+from graspframe.common.transforms import inv_T, transform_points
+from graspframe.model_files.urdf_elements import Visual
+from graspframe.model_files.urdf_model import UrdfModel
+from graspframe.robot_models.shapes import geometry_mesh, primitive_mesh
 
 MAX_TRIANGLES = 3000  # per mesh file, after decimation
 MIN_PART_TRIANGLES = 64  # a small part of a file keeps at least this many
@@ -238,7 +238,7 @@ def robot_meshes(model: UrdfModel) -> tuple[LinkMeshes, ...]:
 
 
 def _link_meshes(model: UrdfModel) -> tuple[LinkMeshes, ...]:
-    from graspframe.robot_model import CollisionModel
+    from graspframe.robot_models.model import CollisionModel
 
     collision_model = CollisionModel(model)  # at its neutral configuration
     collision: dict[str, list[Surface]] = {}

@@ -1,4 +1,4 @@
-"""Meshes placed in the world -> shaded views, on graspframe/render.py's CPU
+"""Meshes placed in the world -> shaded views, on graspframe/pictures/rasteriser.py's CPU
 rasteriser (one OpenGL context per process, `renderer()`).
 
 A `Soup` is a mesh as the rasteriser takes it: three corners per triangle with their
@@ -22,9 +22,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from graspframe.common.transforms import inv_T
 from graspframe.pictures.meshes import vertex_normals
-from graspframe.render import NEAR, Camera, Lighting, Renderer, composite
-from graspframe.transforms import inv_T
+from graspframe.pictures.rasteriser import NEAR, Camera, Lighting, Renderer, composite
 
 CREASE_DEG = 35.0  # corners of faces meeting at more than this keep their own normal
 MIN_VIEW_DISTANCE = 0.12  # [m] closest a fitted camera comes to its target

@@ -3,7 +3,7 @@
 `RobotFigure` holds a model's display meshes (pictures/meshes.py: each link's visual
 meshes, or its collision shapes without them), one soup per link coloured by real finger
 (style.py), and a Pinocchio model that places the links by forward kinematics.
-`object_soup` is the object's display mesh (`graspframe.shapes.object_mesh`);
+`object_soup` is the object's display mesh (`graspframe.robot_models.shapes.object_mesh`);
 `table_soup` the table top as a checker of `TABLE_CELL` squares fixed to the world grid,
 so squares stay put between pictures and give the eye a scale and a floor.
 """
@@ -16,10 +16,10 @@ from collections.abc import Mapping
 import numpy as np
 from numpy.typing import NDArray
 
+from graspframe.model_files.urdf_model import UrdfModel
 from graspframe.pictures import style
 from graspframe.pictures.meshes import robot_meshes
 from graspframe.pictures.render3d import Placed, Soup
-from graspframe.urdf_model import UrdfModel
 
 
 class RobotFigure:
@@ -39,7 +39,7 @@ class RobotFigure:
         colours: Mapping[str, str],
         simulated: bool = False,
     ):
-        from graspframe.robot_model import CollisionModel
+        from graspframe.robot_models.model import CollisionModel
 
         self.kinematics = CollisionModel(model)
         self.finger_of_link = dict(finger_of_link)
@@ -86,10 +86,11 @@ def distance_to(placed: Placed, p_world) -> float:
 
 
 def object_soup(obj, simulated: bool = False) -> Soup:
-    """The object in the object frame: its display mesh (`graspframe.shapes.object_mesh`),
-    or with `simulated` its collision shapes (`graspframe.shapes.object_collision_meshes`:
-    a mesh object's convex pieces)."""
-    from graspframe.shapes import object_collision_meshes, object_mesh
+    """The object in the object frame: its display mesh
+    (`graspframe.robot_models.shapes.object_mesh`), or with `simulated` its collision shapes
+    (`graspframe.robot_models.shapes.object_collision_meshes`: a mesh object's convex
+    pieces)."""
+    from graspframe.robot_models.shapes import object_collision_meshes, object_mesh
 
     if simulated:
         pieces = object_collision_meshes(obj)

@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.files import atomic_output
+from graspframe.common.files import atomic_output
 from graspframe.pictures import style
 
 TITLE_PX, HEADER_PX, LABEL_PX, LEGEND_PX = 20, 15, 15, 14  # font sizes

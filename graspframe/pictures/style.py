@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from graspframe.grasps import PALM
+from graspframe.common.grasps import PALM
 
 FINGER_COLOURS = ("#1b9e77", "#7570b3", "#e7298a", "#66a61e", "#d95f02", "#a6761d", "#17becf")
 PALM_COLOUR = "#9a9a9a"

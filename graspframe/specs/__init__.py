@@ -21,7 +21,7 @@ from __future__ import annotations
 import tomllib
 from pathlib import Path
 
-from graspframe.errors import DescriptionError
+from graspframe.common.errors import DescriptionError
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.specs.arms import read_arm
 from graspframe.specs.hands import read_hand

@@ -8,9 +8,9 @@ from collections.abc import Mapping
 from typing import Any
 
 from graspframe.hal.descriptions import ArmDescription
+from graspframe.model_files.urdf_model import description_model
 from graspframe.specs.model import read_drive, read_frames, read_joints, read_packages
 from graspframe.specs.reader import SpecReader
-from graspframe.urdf_model import description_model
 
 ARM_KEYS = (
     "kind", "name", "summary", "urdf", "base_link", "flange_link", "home_q", "home_q_deg",

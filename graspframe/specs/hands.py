@@ -10,19 +10,18 @@ from typing import Any
 
 import numpy as np
 
-from graspframe.errors import DescriptionError
-from graspframe.grasps import PALM, HumanGrasp
+from graspframe.common.errors import DescriptionError
+from graspframe.common.grasps import PALM, HumanGrasp
 from graspframe.hal.descriptions import (
-    FINGERTIP_FRAMES_KEY,
     Coupling,
     DesignObject,
     HandDescription,
     HandPreshape,
 )
+from graspframe.model_files.urdf_model import description_model
 from graspframe.specs.model import read_drive, read_frames, read_joints, read_packages
 from graspframe.specs.mountings import read_mountings
 from graspframe.specs.reader import SpecReader
-from graspframe.urdf_model import description_model
 
 HAND_KEYS = (
     "kind", "name", "summary", "urdf", "mount_link", "root_link", "palm_frame",
@@ -209,7 +208,7 @@ def read_hand(reader: SpecReader, data: Mapping[str, Any]) -> HandDescription:
         couplings=tuple(couplings),
         mass=reader.number(data, "mass", "the spec", 0.0),
         summary=str(data.get("summary", "")),
-        extras={FINGERTIP_FRAMES_KEY: dict(tips)},
+        fingertip_frames=dict(tips),
         mountings=read_mountings(reader, data, model),
         packages=packages,
         frames=frames,
@@ -242,7 +241,7 @@ def fingertip_height(
 ) -> Callable[[Mapping[str, float]], float]:
     """A function: hand joints [rad] -> the largest height [m] of the fingertip frames
     above the palm surface (along the palm frame's +z)."""
-    from graspframe.robot_model import CollisionModel
+    from graspframe.robot_models.model import CollisionModel
 
     model = CollisionModel(hand.urdf())
 

@@ -9,10 +9,10 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from graspframe.common.transforms import R_from_rpy, make_T
 from graspframe.hal.descriptions import Coupling, DriveGains, JointSpec
+from graspframe.model_files.urdf_model import FrameOffset, UrdfModel
 from graspframe.specs.reader import SpecReader
-from graspframe.transforms import R_from_rpy, make_T
-from graspframe.urdf_model import FrameOffset, UrdfModel
 
 FRAME_KEYS = ("parent", "xyz", "rpy", "rpy_deg", "pad")
 JOINT_KEYS = ("names", "max_velocity", "max_effort", "max_acceleration", "max_jerk")

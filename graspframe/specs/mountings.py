@@ -21,10 +21,10 @@ from typing import Any
 
 import numpy as np
 
+from graspframe.common.transforms import R_from_rpy, inv_T, make_T
 from graspframe.hal.mountings import AdapterShape, Mounting
+from graspframe.model_files.urdf_model import UrdfModel
 from graspframe.specs.reader import SpecReader
-from graspframe.transforms import R_from_rpy, inv_T, make_T
-from graspframe.urdf_model import UrdfModel
 
 MOUNTING_KEYS = ("frame", "mass", "summary", "adapter")
 SHAPE_KEYS = ("shape", "size", "radius", "length", "xyz", "rpy", "rpy_deg")
@@ -64,7 +64,7 @@ def read_mountings(
     tables = reader.table(data, "mountings", "the spec")
     if not tables:
         return {}
-    from graspframe.robot_model import CollisionModel
+    from graspframe.robot_models.model import CollisionModel
 
     placed = CollisionModel(model)
     mountings = {}

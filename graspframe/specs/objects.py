@@ -24,9 +24,9 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from graspframe.errors import DescriptionError
-from graspframe.files import MESH_SUFFIXES, mesh_file
-from graspframe.grasps import HumanGrasp
+from graspframe.common.errors import DescriptionError
+from graspframe.common.files import MESH_SUFFIXES, mesh_file
+from graspframe.common.grasps import HumanGrasp
 from graspframe.hal.objects import MESH, ObjectDescription
 from graspframe.specs.reader import SpecReader
 

@@ -9,7 +9,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from graspframe.errors import DescriptionError
+from graspframe.common.errors import DescriptionError
 
 
 class SpecReader:

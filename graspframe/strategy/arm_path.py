@@ -34,20 +34,20 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import MotionError
-from graspframe.floating_base import mount_floating
-from graspframe.grasps import HumanGrasp
-from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.common.errors import MotionError
+from graspframe.hal.descriptions import ArmDescription
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.ik import IkSolver
-from graspframe.mounting import MountedRobot, mount
-from graspframe.strategy.held_test import HeldTest
+from graspframe.robot_models.floating_base import mount_floating
+from graspframe.robot_models.mounting import MountedRobot, mount
+from graspframe.strategy.held_check import HeldTest
 from graspframe.strategy.method import ExecutorParams, planned_path
 from graspframe.strategy.path_check import Rule, SegmentChecker
 from graspframe.strategy.planner import (
     GraspPlan,
     PlannerParams,
     PlanningError,
+    PlanningTarget,
     Variant,
     plan_grasp,
 )
@@ -103,11 +103,9 @@ def variants(obj: ObjectDescription, side: bool) -> Iterator[Variant]:
 
 def path_problem(
     plan: GraspPlan,
+    target: PlanningTarget,
     robot: MountedRobot,
     T_world_base: NDArray[np.float64],
-    hand: HandDescription,
-    obj: ObjectDescription,
-    table_height: float,
     ik: IkSolver | None = None,
     params: ExecutorParams | None = None,
     held: HeldTest | None = None,
@@ -115,7 +113,7 @@ def path_problem(
     """None when the robot can drive the plan's segments (with the executor's `params`
     and the held test's lift, `held`) without touching the table or the object (see the
     module docstring), else the reason in words."""
-    check = SegmentChecker(plan, robot, T_world_base, hand, obj, table_height)
+    check = SegmentChecker(plan, target, robot, T_world_base)
     ik = ik or IkSolver(robot)
     path = planned_path(plan, params or ExecutorParams(), held or HeldTest())
     q_home = np.asarray(robot.arm.home_q, dtype=float)
@@ -139,13 +137,8 @@ def path_problem(
 
 
 def choose_plan(
-    grasp: HumanGrasp,
-    T_object_human_palm: NDArray[np.float64],
-    T_world_object_est: NDArray[np.float64],
-    hand: HandDescription,
+    target: PlanningTarget,
     arm: ArmDescription,
-    obj: ObjectDescription,
-    table_height: float,
     T_world_base: NDArray[np.float64],
     params: PlannerParams | None = None,
     executor_params: ExecutorParams | None = None,
@@ -157,42 +150,27 @@ def choose_plan(
     every variant's reason when none is."""
     executor_params = executor_params or ExecutorParams()
     refused: list[str] = []
-    first = plan_grasp(grasp, T_object_human_palm, T_world_object_est, hand, obj, table_height)
+    hand, obj = target.hand, target.obj
+    first = plan_grasp(target)
     for mounting in (None, *hand.mountings):
         robot = mount(arm, hand, mounting=mounting)
         ik = IkSolver(robot)
         for variant in variants(obj, first.approach == "side"):
             variant = replace(variant, mounting=mounting)
-            plan = plan_grasp(
-                grasp,
-                T_object_human_palm,
-                T_world_object_est,
-                hand,
-                obj,
-                table_height,
-                params,
-                variant,
-            )
-            problem = path_problem(
-                plan, robot, T_world_base, hand, obj, table_height, ik, executor_params, held
-            )
+            plan = plan_grasp(target, params, variant)
+            problem = path_problem(plan, target, robot, T_world_base, ik, executor_params, held)
             if problem is None:
                 T_world_base = np.asarray(T_world_base, dtype=float)
                 return CheckedPlan(plan, robot, T_world_base, tuple(refused), executor_params)
             refused.append(f"{_describe(variant)}: {problem}")
     raise PlanningError(
-        f"no collision-free path for the {hand.name} {grasp.value} grasp on {arm.name} "
+        f"no collision-free path for the {hand.name} {target.grasp.value} grasp on {arm.name} "
         f"({len(refused)} variant{'s' if len(refused) != 1 else ''} tried; first: {refused[0]})"
     )
 
 
 def floating_plan(
-    grasp: HumanGrasp,
-    T_object_human_palm: NDArray[np.float64],
-    T_world_object_est: NDArray[np.float64],
-    hand: HandDescription,
-    obj: ObjectDescription,
-    table_height: float,
+    target: PlanningTarget,
     params: PlannerParams | None = None,
     executor_params: ExecutorParams | None = None,
     held: HeldTest | None = None,
@@ -200,15 +178,13 @@ def floating_plan(
     """The plan for the hand alone on the floating base, whose home is the via pose (no
     transfer); its segments are checked like an arm's."""
     executor_params = executor_params or ExecutorParams()
-    plan = plan_grasp(
-        grasp, T_object_human_palm, T_world_object_est, hand, obj, table_height, params
-    )
-    robot, T_world_base = mount_floating(hand, plan.T_world_palm_via)
-    problem = path_problem(
-        plan, robot, T_world_base, hand, obj, table_height, None, executor_params, held
-    )
+    plan = plan_grasp(target, params)
+    robot, T_world_base = mount_floating(target.hand, plan.T_world_palm_via)
+    problem = path_problem(plan, target, robot, T_world_base, None, executor_params, held)
     if problem is not None:
-        raise PlanningError(f"no collision-free path for the free {hand.name} hand: {problem}")
+        raise PlanningError(
+            f"no collision-free path for the free {target.hand.name} hand: {problem}"
+        )
     return CheckedPlan(plan, robot, T_world_base, executor_params=executor_params)
 
 

@@ -5,9 +5,9 @@ hand-alone checks.
 it (the arm, or the floating base of a hand alone) and runs `run_policy`: the grasp
 policy brings the hand to the hold (the robot: the method's strategy,
 graspframe/strategy/method.py; the human reference: its open-loop closing,
-graspframe/strategy/human_reference.py), then the one held test (held_test.py) judges
+graspframe/strategy/human_reference.py), then the one held test (held_check.py) judges
 the grasp. An `ExecutionLog` goes along: observers hear every step through its
-`emit(kind, **data)` (the "execute.*" kinds of graspframe/events.py), and it keeps the
+`emit(kind, **data)` (the "execute.*" kinds of graspframe/plugin_system/events.py), and it keeps the
 `Moment`s pictures are drawn from (the policy's own, then "hold" and "after lift").
 Every control cycle the measured joints are checked against the model's limits
 (motion/joint_limits.py): a joint past its limit is reported (execute.joint_limit), and
@@ -26,16 +26,16 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe import events
-from graspframe.contacts import Contact
-from graspframe.errors import MotionError
+from graspframe.common.contacts import Contact
+from graspframe.common.errors import MotionError
 from graspframe.hal.descriptions import joints_by_name
 from graspframe.hal.drivers import Backend, World, WorldConfig
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.motion.joint_limits import JointLimitMonitor, JointLimitReport
-from graspframe.strategy import held_test
-from graspframe.strategy.held_test import HeldTest, HeldVerdict, InHandMotion, LiftResult
+from graspframe.plugin_system import events
+from graspframe.strategy import held_check
+from graspframe.strategy.held_check import HeldTest, HeldVerdict, InHandMotion, LiftResult
 
 MIN_FINGERS = 2  # real fingers (the palm counts as one) that must touch for a grasp
 
@@ -86,7 +86,7 @@ class ExecutionLog:
             q_arm=None if world.arm is None else world.arm.joint_positions(),
             q_hand=world.hand.joint_positions(),
             T_world_palm=world.hand.T_world_palm(),
-            T_world_object=held_test.object_probe(world).T_world_object(),
+            T_world_object=held_check.object_probe(world).T_world_object(),
             contacts=tuple(contacts),
         )
         self.moments.append(moment)
@@ -120,7 +120,7 @@ class GraspOutcome:
     grip: Grip
     held: HeldVerdict | None
     aborted: str | None = None
-    lift_height_requested: float = held_test.LIFT_HEIGHT
+    lift_height_requested: float = held_check.LIFT_HEIGHT
 
     @property
     def verdict(self) -> HeldVerdict:
@@ -284,7 +284,7 @@ def run_policy(
     procedure of `execute`, for callers that hold their own world."""
     log = log or ExecutionLog()
     emit = log.emit
-    probe = held_test.object_probe(world)  # refuses a world without an object
+    probe = held_check.object_probe(world)  # refuses a world without an object
     try:
         grip = policy.grasp(world, motion, log)
     except MotionError as exc:

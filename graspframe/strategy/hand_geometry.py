@@ -22,13 +22,13 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.grasps import PALM
+from graspframe.common.grasps import PALM
+from graspframe.common.transforms import inv_T
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.objects import ObjectDescription
-from graspframe.robot_model import CollisionModel
-from graspframe.shapes import geometry_mesh, object_coal_geometries
-from graspframe.transforms import inv_T
-from graspframe.urdf_model import UrdfModel
+from graspframe.model_files.urdf_model import UrdfModel
+from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.shapes import geometry_mesh, object_coal_geometries
 
 SWEEP_SAMPLES = 16  # configurations between open and closed
 RING_SECTIONS = 12  # sides of a cylinder's mesh: its rims are sampled at 30 deg

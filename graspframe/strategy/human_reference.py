@@ -4,9 +4,9 @@ By default they are simulated: the human hand, on the floating base (floating_ba
 takes the grasp's open posture back from its reference palm pose (reference_poses.py),
 approaches that pose along the palm normal and closes towards its closed posture until its
 fingers stop on the object. Its contacts at the hold are the reference. The grasp then
-goes through the robots' held test (held_test.py): a reference that does not hold says
+goes through the robots' held test (held_check.py): a reference that does not hold says
 so (`HumanReference.held`), and the run reports it. Results are cached per (grasp,
-object, model, backend, held test) in the cache folder (graspframe/cache.py: checked when
+object, model, backend, held test) in the cache folder (graspframe/common/cache.py: checked when
 read, rebuilt when damaged), the contacts, the verdict and the picture of the grasp in one
 entry. Measured human contacts can replace them: a JSON file
 in the format below (docs/method.md shows an example); they are taken as given (no held
@@ -36,24 +36,23 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.cache import ENTRY_FORMAT, CacheEntry, cache_dir, read_entry, write_entry
-from graspframe.contacts import OBJECT, Contact
-from graspframe.errors import InputError
-from graspframe.files import temporary_path
-from graspframe.floating_base import mount_floating
-from graspframe.grasps import HumanGrasp
+from graspframe.common.cache import ENTRY_FORMAT, CacheEntry, cache_dir, read_entry, write_entry
+from graspframe.common.contacts import OBJECT, Contact
+from graspframe.common.errors import InputError
+from graspframe.common.files import temporary_path
+from graspframe.common.grasps import HumanGrasp
+from graspframe.common.json_files import jsonable, read_json_file
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.drivers import Backend, World, WorldConfig
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.motion.joint_limits import LimitExcess
-from graspframe.results import jsonable, read_json_file
-from graspframe.snapshots import PICTURE_STYLE, draw_grasp
+from graspframe.pictures.snapshots import PICTURE_STYLE, draw_grasp
+from graspframe.robot_models.floating_base import mount_floating
 from graspframe.strategy.execution import ExecutionLog, Grip, execute
-from graspframe.strategy.held_test import HeldTest, HeldVerdict
+from graspframe.strategy.held_check import HeldTest, HeldVerdict
 from graspframe.strategy.method import ExecutorParams
 from graspframe.strategy.reference_poses import reference_placement
-from graspframe.transforms import make_T
 
 FORMAT = "graspframe.human_contacts/1"
 CACHE_KIND = "human_references"
@@ -164,7 +163,7 @@ def _contacts_from_json(data: dict, path: Path) -> tuple[Contact, ...]:
 
 
 def _cached_reference(entry: CacheEntry, obj: ObjectDescription) -> HumanReference:
-    """A reference this module wrote to the cache (graspframe/cache.py checked the entry),
+    """A reference this module wrote to the cache (graspframe/common/cache.py checked the entry),
     its held test and picture included."""
     values = _of_the_format(entry.values, entry.folder)
     return HumanReference(
@@ -218,7 +217,7 @@ def simulate_human_grasp(
     object, holds, and is lifted and pushed. picture: also draw the hand at the hold and
     after the lift (snapshots.py) to this PNG."""
     posture = human.preshape_for(grasp)
-    T_world_object = make_T(p=[*T_WORLD_OBJECT_XY, obj.half_height])
+    T_world_object = obj.T_world_standing(T_WORLD_OBJECT_XY)
     T_world_palm = T_world_object @ reference_placement(obj, posture).T_object_palm
     z_palm = T_world_palm[:3, 2]
     T_world_palm_start = T_world_palm.copy()

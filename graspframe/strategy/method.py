@@ -8,7 +8,7 @@ where it touches the palm; non-volar: to the standoff goal, no feedback); close 
 until it settles; hold. The held test and the pictures' moments at the hold and after
 the lift follow in execution.py, the same for every policy. Every step is reported as an
 event through `emit(kind, **data)`, `kind` one of the "execute.*" kinds declared in
-graspframe/events.py.
+graspframe/plugin_system/events.py.
 """
 
 from __future__ import annotations
@@ -19,19 +19,19 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe import events
-from graspframe.errors import MotionError
-from graspframe.grasps import PALM
+from graspframe.common.errors import MotionError
+from graspframe.common.grasps import PALM
+from graspframe.common.transforms import inv_T
 from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.drivers import World
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.motion.palm_line import PalmLine
+from graspframe.plugin_system import events
 from graspframe.strategy.execution import ExecutionLog, Grip
-from graspframe.strategy.held_test import HeldTest
+from graspframe.strategy.held_check import HeldTest
 from graspframe.strategy.planner import GraspPlan
 from graspframe.strategy.segments import PalmPath, approach_line, palm_path, retreat_line
-from graspframe.transforms import inv_T
 
 # A cylinder's axis lies across the palm when its part in the palm plane is longer than
 # this (the sine of its angle to the palm normal): then the palm contacts say nothing

@@ -26,17 +26,16 @@ from enum import Enum
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.hal.descriptions import HandDescription, joints_by_name
-from graspframe.hal.objects import ObjectDescription
+from graspframe.common.transforms import inv_T
+from graspframe.hal.descriptions import joints_by_name
 from graspframe.motion.arm_motion import CONTROL_PERIOD, track_waypoint
 from graspframe.motion.collision import RobotCollisionChecker, object_obstacle, table_obstacle
 from graspframe.motion.ik import IkSolver
 from graspframe.motion.palm_line import PalmLine
 from graspframe.motion.trajectory import JointLimits, plan_joint_trajectory
-from graspframe.mounting import MountedRobot
-from graspframe.robot_model import summarize_urdf
-from graspframe.strategy.planner import GraspPlan
-from graspframe.transforms import inv_T
+from graspframe.robot_models.model import summarize_urdf
+from graspframe.robot_models.mounting import MountedRobot
+from graspframe.strategy.planner import GraspPlan, PlanningTarget
 
 
 class Rule(Enum):
@@ -66,18 +65,17 @@ CHECKS = {
 
 
 class SegmentChecker:
-    """Checks segments of `plan` on `robot` standing at T_world_base, among the table at
-    `table_height` [m] and the object where the plan believes it."""
+    """Checks segments of `plan` for `target` on `robot` standing at T_world_base, among
+    the target's table and its object where the plan believes it."""
 
     def __init__(
         self,
         plan: GraspPlan,
+        target: PlanningTarget,
         robot: MountedRobot,
         T_world_base: NDArray[np.float64],
-        hand: HandDescription,
-        obj: ObjectDescription,
-        table_height: float,
     ) -> None:
+        hand, obj, table_height = target.hand, target.obj, target.table_height
         self.arm = robot.arm
         self.T_base_world = inv_T(np.asarray(T_world_base, dtype=float))
         self.tracking = IkSolver(robot, restarts=0)

@@ -57,16 +57,36 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import GraspframeError
-from graspframe.grasps import PALM, HumanGrasp
+from graspframe.common.defaults import TABLE_HEIGHT
+from graspframe.common.errors import GraspframeError
+from graspframe.common.grasps import PALM, HumanGrasp
+from graspframe.common.transforms import as_pose, inv_T, make_T
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.objects import ObjectDescription
 from graspframe.strategy.hand_geometry import closing_sweep, fingertip_links, lowest_points
-from graspframe.transforms import as_pose, inv_T, make_T
 
 MAX_RAISE_ITERATIONS = 5
 RAISE_TOLERANCE = 1e-6  # [m]
 DOWN = np.array([0.0, 0.0, -1.0])
+
+
+@dataclass(frozen=True, eq=False)
+class PlanningTarget:
+    """What every planner and path check plans for, as one value: the human grasp, the
+    human palm in the object frame (T_object_human_palm [m]), where the robot believes
+    the object is (T_world_object_est [m]), the hand, the object and the table top's
+    world height (table_height [m]). The poses are checked on creation."""
+
+    grasp: HumanGrasp
+    T_object_human_palm: NDArray[np.float64]
+    T_world_object_est: NDArray[np.float64]
+    hand: HandDescription
+    obj: ObjectDescription
+    table_height: float = TABLE_HEIGHT
+
+    def __post_init__(self) -> None:
+        for name in ("T_object_human_palm", "T_world_object_est"):
+            object.__setattr__(self, name, as_pose(getattr(self, name), name))
 
 
 class PlanningError(GraspframeError):
@@ -269,24 +289,14 @@ def object_in_palm(
 
 
 def plan_grasp(
-    grasp: HumanGrasp,
-    T_object_human_palm: NDArray[np.float64],
-    T_world_object_est: NDArray[np.float64],
-    hand: HandDescription,
-    obj: ObjectDescription,
-    table_height: float = 0.0,
-    params: PlannerParams | None = None,
-    variant: Variant | None = None,
+    target: PlanningTarget, params: PlannerParams | None = None, variant: Variant | None = None
 ) -> GraspPlan:
-    """Plan the robot grasp (preshape, approach, goals; see the module docstring).
-
-    table_height: [m] world height of the table top.
-    variant: an alternative of the grasp (default: none).
-    """
+    """Plan the robot grasp for `target` (preshape, approach, goals; see the module
+    docstring). variant: an alternative of the grasp (default: none)."""
     params = params or PlannerParams()
     variant = variant or Variant()
-    T_object_human_palm = as_pose(T_object_human_palm, "T_object_human_palm")
-    T_world_object_est = as_pose(T_world_object_est, "T_world_object_est")
+    grasp, hand, obj, table_height = target.grasp, target.hand, target.obj, target.table_height
+    T_object_human_palm, T_world_object_est = target.T_object_human_palm, target.T_world_object_est
     if not params.pre_approach_distance > 0:
         raise PlanningError("pre_approach_distance must be > 0 [m]")
     if variant.yaw_deg and not obj.symmetric_about_z:

@@ -27,10 +27,10 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import DescriptionError
+from graspframe.common.errors import DescriptionError
+from graspframe.common.transforms import make_T
 from graspframe.hal.descriptions import DesignObject, HandPreshape
 from graspframe.hal.objects import ObjectDescription
-from graspframe.transforms import make_T
 
 # Columns are the palm axes (x, y, z) in the object frame: palm facing down.
 R_OBJECT_PALM_TOP = np.column_stack([[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]])

@@ -22,8 +22,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from graspframe import events
-from graspframe.hal.depth_camera import CameraMount, DepthCamera, DepthImage, Intrinsics
+from graspframe.common.camera import Camera
+from graspframe.hal.depth_camera import CameraMount, DepthCamera, DepthImage
 from graspframe.hal.descriptions import HandDescription, joints_by_name
 from graspframe.hal.drivers import World, WorldConfig
 from graspframe.hal.objects import ObjectDescription
@@ -32,6 +32,7 @@ from graspframe.perception.localise import ObjectFit, ObjectModel, fit_object
 from graspframe.perception.self_filter import RobotSelfFilter
 from graspframe.perception.servo_step import ServoStep
 from graspframe.pictures.render3d import look_at
+from graspframe.plugin_system import events
 from graspframe.strategy.execution import ExecutionLog, Grip
 from graspframe.strategy.method import ExecutorParams, _Strategy
 from graspframe.strategy.planner import GraspPlan
@@ -42,7 +43,7 @@ STANDOFF_SKIPPED = "larger than the standoff allows"  # a step's `skipped` then
 # 580 px at 640 x 480), in the world above and beside the arm's base (at the world origin
 # on the arm mount; the hand alone works in the same scene), looking at the believed
 # object.
-HEAD_CAMERA = Intrinsics(320, 240, 290.0, 290.0, 160.0, 120.0)
+HEAD_CAMERA = Camera(320, 240, 290.0, 290.0, 160.0, 120.0)
 P_WORLD_HEAD = (0.15, -0.45, 0.8)  # [m]
 
 

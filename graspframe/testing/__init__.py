@@ -13,11 +13,7 @@ or runs the parametrised contract tests over every installed plugin:
 testing code that drives a `World`.
 """
 
-from graspframe.hal.classifier import Classifier
-from graspframe.hal.descriptions import ArmDescription, HandDescription
-from graspframe.hal.drivers import Backend
-from graspframe.hal.objects import ObjectDescription
-from graspframe.testing.contracts import (
+from graspframe.checks.contracts import (
     arm_problems,
     backend_problems,
     classifier_problems,
@@ -25,9 +21,13 @@ from graspframe.testing.contracts import (
     hand_problems,
     palm_direction_problems,
 )
-from graspframe.testing.grasp_checks import closing_problems, hand_alone_grasp, hold_problems
+from graspframe.checks.grasps import closing_problems, hand_alone_grasp, hold_problems
+from graspframe.checks.self_collision import self_collision_problems
+from graspframe.hal.classifier import Classifier
+from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.hal.drivers import Backend
+from graspframe.hal.objects import ObjectDescription
 from graspframe.testing.kinematic_backend import KinematicBackend
-from graspframe.testing.self_collision import self_collision_problems
 
 
 def _assert_none(what: str, problems: list[str]) -> None:

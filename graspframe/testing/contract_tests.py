@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import pytest
 
-from graspframe.defaults import DEFAULT_ARM, DEFAULT_BACKEND
-from graspframe.grasps import HUMAN_HAND
-from graspframe.registry import default_registry
+from graspframe.common.defaults import DEFAULT_ARM, DEFAULT_BACKEND
+from graspframe.common.grasps import HUMAN_HAND
+from graspframe.plugin_system.registry import default_registry
 from graspframe.testing import (
     assert_arm_contract,
     assert_backend_contract,

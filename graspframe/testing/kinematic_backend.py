@@ -19,14 +19,14 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.contacts import Contact, PalmSensorReading
-from graspframe.errors import GraspframeError
-from graspframe.grasps import PALM
+from graspframe.common.contacts import Contact, PalmSensorReading
+from graspframe.common.errors import GraspframeError
+from graspframe.common.grasps import PALM
+from graspframe.common.transforms import as_pose, inv_T
 from graspframe.hal.descriptions import ArmDescription, joints_by_name
 from graspframe.hal.drivers import ArmDriver, Backend, HandDriver, ObjectProbe, World, WorldConfig
 from graspframe.hal.hand_control import HandController
 from graspframe.testing.kinematic_geometry import KinematicGeometry
-from graspframe.transforms import as_pose, inv_T
 
 CONTACT_DISTANCE = 1e-3  # [m] a hand shape this close to the object touches it
 # No physics, no forces: a touch reports a nominal force that grows with the

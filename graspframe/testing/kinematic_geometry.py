@@ -10,12 +10,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from graspframe.common.transforms import as_pose
 from graspframe.hal.descriptions import HandDescription
 from graspframe.hal.objects import ObjectDescription
+from graspframe.model_files.urdf_model import UrdfModel
 from graspframe.motion.collision import object_obstacle
-from graspframe.robot_model import CollisionModel
-from graspframe.transforms import as_pose
-from graspframe.urdf_model import UrdfModel
+from graspframe.robot_models.model import CollisionModel
 
 
 @dataclass(frozen=True)

@@ -5,5 +5,5 @@ Modules, one job each: `images` (reading an image file, checking an image array)
 mapped back from the mirrored image), `hands` (the optional MediaPipe hand detector of
 the `hands` extra). The HOG + kNN classifier and its view database are the plugin
 graspframe_hog_knn, the landmark classifier the plugin graspframe_landmarks
-(docs/vision.md). The CPU rasteriser is graspframe/render.py.
+(docs/vision.md). The CPU rasteriser is graspframe/pictures/rasteriser.py.
 """

@@ -17,7 +17,7 @@ from typing import cast
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import GraspframeError
+from graspframe.common.errors import GraspframeError
 
 DISTANCE_FLOOR = 1e-6  # keeps the 1 / distance weight finite for an exact match
 # Reflection of the camera x axis: a left hand is classified in the mirrored image.

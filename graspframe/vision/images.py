@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import InputError
+from graspframe.common.errors import InputError
 
 MAX_SIDE = 4096  # [px] larger images are refused
 MIN_SIDE = 32  # [px] smaller images are refused

@@ -15,9 +15,8 @@ from __future__ import annotations
 
 import math
 
-from graspframe.grasps import PALM, HumanGrasp, Preshape
+from graspframe.common.grasps import PALM, HumanGrasp, Preshape
 from graspframe.hal.descriptions import (
-    FINGERTIP_FRAMES_KEY,
     Coupling,
     DesignObject,
     DriveGains,
@@ -245,5 +244,5 @@ BARRETT = HandDescription(
     couplings=COUPLINGS,
     mass=1.2,
     summary="Barrett BH8-280: 3 fingers, 4 motors (spread + one per finger), 8 joints",
-    extras={FINGERTIP_FRAMES_KEY: FINGERTIP_FRAMES},
+    fingertip_frames=FINGERTIP_FRAMES,
 )

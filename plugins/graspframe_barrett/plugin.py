@@ -1,7 +1,7 @@
 """Registers the Barrett BH8-280 hand with graspframe."""
 
-from graspframe.plugins import hookimpl
-from graspframe.plugins.hookspecs import Register
+from graspframe.plugin_system import hookimpl
+from graspframe.plugin_system.hookspecs import Register
 from graspframe_barrett.description import BARRETT
 
 

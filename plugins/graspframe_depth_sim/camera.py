@@ -1,6 +1,6 @@
 """A depth camera that renders the simulated world: the robot's display meshes at the
 measured joint positions, the object at its true pose and the table, on the CPU
-rasteriser (graspframe/render.py), one depth sample per pixel; then the sensor noise of
+rasteriser (graspframe/pictures/rasteriser.py), one depth sample per pixel; then the sensor noise of
 graspframe/perception/depth_noise.py. The hand and the arm occlude what lies behind them
 as they would for a real sensor."""
 
@@ -77,8 +77,8 @@ class SimulatedDepthCamera(DepthCamera):
 
 def ideal_depth(placed, intrinsics, T_world_camera) -> NDArray[np.float32]:
     """The noiseless depth image [m] (+inf: nothing) of the placed soups."""
+    from graspframe.common.transforms import inv_T
     from graspframe.pictures.render3d import renderer
-    from graspframe.transforms import inv_T
 
     T_camera_world = inv_T(T_world_camera)
     corners = []

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from graspframe.plugins import hookimpl
+from graspframe.plugin_system import hookimpl
 from graspframe_depth_sim.camera import SimulatedDepthCamera
 
 

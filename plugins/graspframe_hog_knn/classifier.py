@@ -19,7 +19,8 @@ from typing import TYPE_CHECKING, ClassVar, Self
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import GraspframeError, InputError
+from graspframe.common.errors import GraspframeError, InputError
+from graspframe.common.transforms import R_from_quat_xyzw
 from graspframe.hal.classifier import (
     Classifier,
     ClassifierOptions,
@@ -27,7 +28,6 @@ from graspframe.hal.classifier import (
     HumanGraspEstimate,
     Neighbour,
 )
-from graspframe.transforms import R_from_quat_xyzw
 from graspframe.vision.common import unmirror, weighted_vote
 from graspframe.vision.images import check_image
 from graspframe_hog_knn.index import NeighbourIndex

@@ -14,7 +14,7 @@ from typing import Annotated
 
 import typer
 
-from graspframe.hal.commands import PluginCommand
+from graspframe.plugin_system.commands import PluginCommand
 
 db_app = typer.Typer(help="The synthetic view database of the hog_knn classifier.")
 DB_COMMAND = PluginCommand("db", db_app)

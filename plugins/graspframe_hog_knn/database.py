@@ -24,10 +24,10 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import GraspframeError, InputError
-from graspframe.files import atomic_output, atomic_write
-from graspframe.grasps import HumanGrasp
-from graspframe.transforms import quat_xyzw_from_R
+from graspframe.common.errors import GraspframeError, InputError
+from graspframe.common.files import atomic_output, atomic_write
+from graspframe.common.grasps import HumanGrasp
+from graspframe.common.transforms import quat_xyzw_from_R
 from graspframe_hog_knn.features import HOG_PARAMETERS, hog_descriptor
 from graspframe_hog_knn.index import Pca
 from graspframe_hog_knn.segmentation import CROP_SIZE, NoHandFoundError, segment_hand
@@ -128,7 +128,7 @@ _WORKER: dict = {}
 
 def _worker_state():
     if not _WORKER:
-        from graspframe.render import Renderer, single_thread_llvmpipe
+        from graspframe.pictures.rasteriser import Renderer, single_thread_llvmpipe
         from graspframe_hog_knn.hand_scene import HandModel
 
         single_thread_llvmpipe()

@@ -2,7 +2,7 @@
 large_cylinder, as the robot's camera sees it, with its ground truth (scene.json).
 
 Rendered with this classifier's hand model and backgrounds; `write_demo` writes it into
-the core's package folder graspframe/demo/, where `graspframe run` finds it by default.
+the core's package folder graspframe/run/demo/, where `graspframe run` finds it by default.
 
 World: z up, table top at z = 0, the object upright at x = 0.55, y = 0.2 with its
 centroid at half its height; the human palm placed by `reference_placement`; the camera
@@ -16,11 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
-from graspframe.defaults import SCENE_FORMAT, SCENE_OBJECT_XY
-from graspframe.files import atomic_write
-from graspframe.grasps import HumanGrasp
-from graspframe.render import Camera, Lighting, Renderer, composite
-from graspframe.transforms import inv_T, make_T
+from graspframe.common.defaults import SCENE_FORMAT, SCENE_OBJECT_XY
+from graspframe.common.files import atomic_write
+from graspframe.common.grasps import HumanGrasp
+from graspframe.common.transforms import inv_T, make_T
+from graspframe.pictures.rasteriser import Camera, Lighting, Renderer, composite
 from graspframe_hog_knn.hand_scene import HandModel, T_palm_object, object_mesh, primitive
 from graspframe_hog_knn.views import SKIN_TONES, R_world_camera_looking, background
 
@@ -115,10 +115,10 @@ def render_demo(seed: int = 7, renderer: Renderer | None = None):
 
 
 def demo_dir() -> Path:
-    """The core's package folder holding demo.png and scene.json (graspframe/demo/)."""
+    """The core's package folder holding demo.png and scene.json (graspframe/run/demo/)."""
     from importlib.resources import files
 
-    return Path(str(files("graspframe.demo")))
+    return Path(str(files("graspframe.run.demo")))
 
 
 def write_demo(out_dir: Path | None = None, seed: int = 7) -> tuple[Path, Path]:

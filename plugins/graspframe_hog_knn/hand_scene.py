@@ -15,11 +15,11 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
-from graspframe import shapes
-from graspframe.grasps import HumanGrasp
+from graspframe.common.grasps import HumanGrasp
+from graspframe.common.transforms import inv_T, transform_points
 from graspframe.hal.objects import ObjectDescription
-from graspframe.shapes import geometry_primitive, unit_primitive, unit_scale
-from graspframe.transforms import inv_T, transform_points
+from graspframe.robot_models import shapes
+from graspframe.robot_models.shapes import geometry_primitive, unit_primitive, unit_scale
 
 PALM_FRAME = "hh_palm_frame"
 
@@ -66,7 +66,7 @@ def primitive(kind: str, scale_xyz) -> Mesh:
 
 def object_mesh(obj: ObjectDescription) -> Mesh:
     """The object's surface in its own frame (centroid, cylinders along z) [m]: a
-    primitive exactly as before, a mesh object's display mesh (graspframe.shapes)."""
+    primitive exactly as before, a mesh object's display mesh (graspframe.robot_models.shapes)."""
     if obj.is_mesh:
         return _unindexed(shapes.object_mesh(obj), smooth=True)
     return primitive(obj.shape, unit_scale(obj.shape, obj.dimensions))
@@ -84,8 +84,8 @@ class HandModel:
     """The human hand's collision model, meshed per posture in the palm frame."""
 
     def __init__(self):
-        from graspframe.registry import default_registry
-        from graspframe.robot_model import CollisionModel
+        from graspframe.plugin_system.registry import default_registry
+        from graspframe.robot_models.model import CollisionModel
 
         self.description = default_registry().get_hand("human")
         self.collision = CollisionModel(self.description.urdf())
@@ -131,7 +131,7 @@ def T_palm_object(
     grasp: HumanGrasp, obj: ObjectDescription | None = None
 ) -> tuple[ObjectDescription, NDArray[np.float64]]:
     """Pose of the grasp's object in the palm frame (inverse of the reference placement)."""
-    from graspframe.registry import default_registry
+    from graspframe.plugin_system.registry import default_registry
     from graspframe.strategy.reference_poses import reference_placement
 
     registry = default_registry()

@@ -3,8 +3,8 @@ builds its view database, `graspframe db build` (commands.py)."""
 
 from __future__ import annotations
 
-from graspframe.plugins import hookimpl
-from graspframe.plugins.hookspecs import Register
+from graspframe.plugin_system import hookimpl
+from graspframe.plugin_system.hookspecs import Register
 from graspframe_hog_knn.classifier import HogKnnClassifier
 from graspframe_hog_knn.commands import DB_COMMAND
 

@@ -13,8 +13,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from graspframe.errors import GraspframeError
-from graspframe.transforms import rotation_angle
+from graspframe.common.errors import GraspframeError
+from graspframe.common.transforms import rotation_angle
 
 
 def average_rotations(rotations: ArrayLike, weights: ArrayLike | None = None) -> NDArray:

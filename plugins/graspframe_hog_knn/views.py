@@ -20,10 +20,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.grasps import HumanGrasp
+from graspframe.common.grasps import HumanGrasp
+from graspframe.common.transforms import R_from_axis_angle
 from graspframe.hal.objects import ObjectDescription
-from graspframe.render import Camera, Lighting, Renderer, composite
-from graspframe.transforms import R_from_axis_angle
+from graspframe.pictures.rasteriser import Camera, Lighting, Renderer, composite
 from graspframe_hog_knn.hand_scene import HandModel, Mesh, T_palm_object, object_mesh
 from graspframe_hog_knn.segmentation import skin_pixels
 

@@ -27,9 +27,8 @@ from __future__ import annotations
 
 import math
 
-from graspframe.grasps import PALM, THUMB, HumanGrasp
+from graspframe.common.grasps import PALM, THUMB, HumanGrasp
 from graspframe.hal.descriptions import (
-    FINGERTIP_FRAMES_KEY,
     Coupling,
     DesignObject,
     DriveGains,
@@ -281,5 +280,5 @@ HUMAN = HandDescription(
     couplings=COUPLINGS,
     mass=0.464,  # [kg] sum of the URDF's link masses (0.45 kg of shapes + marker links)
     summary="Human right hand (reference), 190 mm: 20 joints, 16 driven + 4 coupled DIP",
-    extras={FINGERTIP_FRAMES_KEY: {digit: f"hh_{digit}_tip" for digit in DIGITS}},
+    fingertip_frames={digit: f"hh_{digit}_tip" for digit in DIGITS},
 )

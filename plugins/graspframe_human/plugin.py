@@ -1,7 +1,7 @@
 """Registers the human right hand (the reference hand) with graspframe."""
 
-from graspframe.plugins import hookimpl
-from graspframe.plugins.hookspecs import Register
+from graspframe.plugin_system import hookimpl
+from graspframe.plugin_system.hookspecs import Register
 from graspframe_human.description import HUMAN
 
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from graspframe.grasps import PALM, THUMB, HumanGrasp
+from graspframe.common.grasps import PALM, THUMB, HumanGrasp
 from graspframe_human.description import FINGERS
 
 # The segments of a digit, by link name suffix; "tip" is the marker at the distal end.

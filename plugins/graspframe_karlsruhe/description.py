@@ -24,9 +24,9 @@ import math
 
 import numpy as np
 
-from graspframe.grasps import PALM, THUMB, HumanGrasp, Preshape
+from graspframe.common.grasps import PALM, THUMB, HumanGrasp, Preshape
+from graspframe.common.transforms import inv_T, make_T
 from graspframe.hal.descriptions import (
-    FINGERTIP_FRAMES_KEY,
     AdapterShape,
     DesignObject,
     DriveGains,
@@ -35,7 +35,6 @@ from graspframe.hal.descriptions import (
     JointSpec,
     Mounting,
 )
-from graspframe.transforms import inv_T, make_T
 from graspframe_robots import model_path
 
 NAME = "karlsruhe"
@@ -92,8 +91,9 @@ def _q_deg(*angles_deg: float) -> dict[str, float]:
 # radially out; 90: standing up at the wrist end of the index column); the thumb flex (t2)
 # then swings its tip onto the index and middle fingertips. delta [m]: the highest closing
 # fingertip above the palm surface (palm +z) in the open preshape, from forward
-# kinematics (tests/test_robot_karlsruhe.py checks). Design objects and grasp centres are
-# in the palm frame [m], where the hand holds them in a run (after the preshape's roll).
+# kinematics (tests/plugins/karlsruhe/test_robot_karlsruhe.py checks). Design objects and
+# grasp centres are in the palm frame [m], where the hand holds them in a run (after the
+# preshape's roll).
 DEG = math.pi / 180.0
 PRESHAPES = {
     p.name: p
@@ -232,6 +232,6 @@ KARLSRUHE_HAND = HandDescription(
     drive=DRIVE,
     mass=MASS,
     summary="Karlsruhe humanoid hand: right, 5 fingers, 8 fluidic (soft) joints, 0..90 deg",
-    extras={FINGERTIP_FRAMES_KEY: FINGERTIP_FRAMES},
+    fingertip_frames=FINGERTIP_FRAMES,
     mountings=MOUNTINGS,
 )

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from graspframe.plugins import hookimpl
-from graspframe.plugins.hookspecs import Register
+from graspframe.plugin_system import hookimpl
+from graspframe.plugin_system.hookspecs import Register
 from graspframe_karlsruhe.description import KARLSRUHE_HAND
 
 

@@ -34,7 +34,8 @@ _JOINT_TABLE = (
 JOINTS = datasheet_joints(_JOINT_TABLE)
 
 # Elbow up, flange pointing straight down 0.50 m in front of the base at 0.38 m height,
-# A2 + A3 + A5 = 90 deg (so the flange is vertical). Checked in tests/test_robot_kuka.py.
+# A2 + A3 + A5 = 90 deg (so the flange is vertical). Checked in
+# tests/plugins/kuka/test_robot_kuka.py.
 HOME_Q_DEG = (0.0, -77.3, 123.6, 0.0, 43.7, 0.0)
 HOME_Q = tuple(math.radians(q) for q in HOME_Q_DEG)
 

@@ -1,7 +1,7 @@
 """Registers the KUKA KR 5 sixx R850 arm."""
 
-from graspframe.plugins import hookimpl
-from graspframe.plugins.hookspecs import Register
+from graspframe.plugin_system import hookimpl
+from graspframe.plugin_system.hookspecs import Register
 from graspframe_kuka.description import arm_description
 
 

@@ -37,7 +37,7 @@ JOINTS = datasheet_joints(
 
 # Elbow up, flange pointing straight down 0.50 m in front of the base at 0.40 m height:
 # A2 - A4 + A6 = 180 deg (A4 turns about -y, see the generator). Checked in
-# tests/test_robot_kuka_iiwa14.py.
+# tests/plugins/kuka_iiwa14/test_robot_kuka_iiwa14.py.
 HOME_Q_DEG = (0.0, 23.3, 0.0, -100.1, 0.0, 56.6, 0.0)
 HOME_Q = tuple(math.radians(q) for q in HOME_Q_DEG)
 

@@ -1,7 +1,7 @@
 """Registers the KUKA LBR iiwa 14 R820 arm."""
 
-from graspframe.plugins import hookimpl
-from graspframe.plugins.hookspecs import Register
+from graspframe.plugin_system import hookimpl
+from graspframe.plugin_system.hookspecs import Register
 from graspframe_kuka_iiwa14.description import arm_description
 
 

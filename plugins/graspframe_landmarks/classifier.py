@@ -16,7 +16,7 @@ from typing import ClassVar, Self
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.errors import InputError, NotAvailableError
+from graspframe.common.errors import InputError, NotAvailableError
 from graspframe.hal.classifier import (
     Classifier,
     ClassifierOptions,

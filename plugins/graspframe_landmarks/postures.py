@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from graspframe.grasps import HumanGrasp
+from graspframe.common.grasps import HumanGrasp
 from graspframe_landmarks.features import angle_features
 
 HUMAN_HAND = "human"  # the registered hand whose postures are the database
@@ -53,8 +53,8 @@ class HumanModelLandmarks:
     """Forward kinematics of the human hand model to landmark-equivalent points."""
 
     def __init__(self) -> None:
-        from graspframe.registry import get_hand
-        from graspframe.robot_model import CollisionModel
+        from graspframe.plugin_system.registry import get_hand
+        from graspframe.robot_models.model import CollisionModel
 
         self.hand = get_hand(HUMAN_HAND)
         self.model = CollisionModel(self.hand.urdf())

@@ -14,10 +14,10 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Any
 
-from graspframe.grasps import HumanGrasp
+from graspframe.common.grasps import HumanGrasp
 from graspframe.hal.objects import ObjectDescription
-from graspframe.plugins import hookimpl
-from graspframe.plugins.hookspecs import Register
+from graspframe.plugin_system import hookimpl
+from graspframe.plugin_system.hookspecs import Register
 
 STATIC_FRICTION = 0.8
 DYNAMIC_FRICTION = 0.6

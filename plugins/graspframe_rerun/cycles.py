@@ -16,9 +16,9 @@ from dataclasses import dataclass
 import numpy as np
 import rerun as rr
 
+from graspframe.common.transforms import quat_xyzw_from_R
 from graspframe.hal.descriptions import HandDescription, joints_by_name
-from graspframe.robot_model import CollisionModel
-from graspframe.transforms import quat_xyzw_from_R
+from graspframe.robot_models.model import CollisionModel
 
 PALM_PATH_COLOUR = (255, 255, 255)
 
@@ -77,7 +77,8 @@ class MotionCycles:
         self._sent_path_points = 0
 
     def add(self, sim_time_s: float, data: dict) -> None:
-        """Buffer one motion.cycle payload (see graspframe/events.py) at `sim_time_s`."""
+        """Buffer one motion.cycle payload (see graspframe/plugin_system/events.py) at
+        `sim_time_s`."""
         self.sim_time_s.append(float(sim_time_s))
         self.q_by_joint.append(self.poser.q_by_joint(data["q_arm"], data["q_hand"]))
         self.T_world_object.append(np.asarray(data["T_world_object"], dtype=float))

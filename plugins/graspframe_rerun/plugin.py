@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from graspframe.plugins import hookimpl
+from graspframe.plugin_system import hookimpl
 from graspframe_rerun.viewer import RerunViewer
 
 if TYPE_CHECKING:

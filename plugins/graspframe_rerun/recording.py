@@ -1,5 +1,5 @@
 """One run's rerun recording, kept in memory during the run and written to the run folder
-at its end, atomically (graspframe.files): a recording file is always whole, and one that
+at its end, atomically (graspframe.common.files): a recording file is always whole, and one that
 cannot be written (no space left, ...) is an OutputError naming the file and the cause,
 which fails the run. (rerun's own file sink writes from a thread of its own: a failure
 shows only in rerun's log lines on stderr, a flush may then wait for ever, and half a
@@ -32,7 +32,7 @@ samples (link transforms, joint values, scalars) are buffered and sent in column
 (cycles.py) before each further event and at the end of the run. Hand links are coloured
 by real finger (a visual mesh keeps a tint of its material colour), arm links orange.
 The hand and the object come from the run's RunInfo; the events are those declared in
-graspframe/events.py; the score (vf/, the virtual-finger errors) from the run's typed
+graspframe/plugin_system/events.py; the score (vf/, the virtual-finger errors) from the run's typed
 result at its end, logged at the time of its score.done event.
 """
 
@@ -45,22 +45,26 @@ import numpy as np
 import rerun as rr
 import trimesh
 
-from graspframe import events
-from graspframe.defaults import TABLE_HALF_SIZE
-from graspframe.errors import GraspframeError
-from graspframe.events import RunInfo
-from graspframe.files import atomic_write
+from graspframe.common.defaults import TABLE_HALF_SIZE
+from graspframe.common.errors import GraspframeError
+from graspframe.common.files import atomic_write
+from graspframe.common.transforms import quat_xyzw_from_R
 from graspframe.pictures import style
 from graspframe.pictures.meshes import Surface, robot_meshes, vertex_normals
 from graspframe.pictures.style import tinted
-from graspframe.robot_model import CollisionModel
-from graspframe.shapes import object_collision_meshes, object_mesh, textured_object_mesh
-from graspframe.transforms import quat_xyzw_from_R
+from graspframe.plugin_system import events
+from graspframe.plugin_system.events import RunInfo
+from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.shapes import (
+    object_collision_meshes,
+    object_mesh,
+    textured_object_mesh,
+)
 from graspframe_rerun import RECORDING_FILE
 from graspframe_rerun.cycles import MotionCycles, RobotPoser
 
 if TYPE_CHECKING:  # the run's types import the whole pipeline
-    from graspframe.run_result import Score
+    from graspframe.run.result import Score
 
 COLLISION_OVERLAY_ALPHA = 70  # [0, 255] collision shapes over a link's visual meshes
 HUMAN_VF_OFFSET = np.array([0.0, 0.25, 0.0])  # [m] human virtual fingers beside the robot's
@@ -95,7 +99,7 @@ PIECE_COLOUR = (60, 170, 200, 90)  # translucent: the pieces inside the visual m
 
 
 def _object_archetype(obj):
-    """The object's display mesh (graspframe.shapes.object_mesh), with the colours of a
+    """The object's display mesh (graspframe.robot_models.shapes.object_mesh), with the colours of a
     mesh object's texture at its vertices when it has one."""
     if not obj.is_mesh:
         return _mesh_archetype(object_mesh(obj), OBJECT_COLOUR)
@@ -104,7 +108,8 @@ def _object_archetype(obj):
 
 
 def _pieces_archetype(obj) -> rr.Mesh3D:
-    """A mesh object's convex pieces as one mesh (graspframe.shapes.object_collision_meshes)."""
+    """A mesh object's convex pieces as one mesh
+    (graspframe.robot_models.shapes.object_collision_meshes)."""
     return _mesh_archetype(trimesh.util.concatenate(object_collision_meshes(obj)), PIECE_COLOUR)
 
 

@@ -10,8 +10,8 @@ import sys
 from pathlib import Path
 from typing import ClassVar
 
-from graspframe.errors import NotAvailableError
-from graspframe.hal.viewer import Viewer
+from graspframe.common.errors import NotAvailableError
+from graspframe.plugin_system.viewer import Viewer
 from graspframe_rerun import RECORDING_FILE, RECORDING_SUFFIX
 
 # What the native viewer's window library (winit) looks for on Linux; without any of them

@@ -14,9 +14,9 @@ from collections.abc import Mapping
 import numpy as np
 import sapien
 
-from graspframe.errors import DescriptionError
+from graspframe.common.errors import DescriptionError
 from graspframe.hal.descriptions import DriveGains
-from graspframe.urdf_model import UrdfModel
+from graspframe.model_files.urdf_model import UrdfModel
 
 # Collision group bit that, with the same g3 id, stops a robot's links colliding with
 # each other: shapes A and B collide iff ((A.g0 & B.g1) or (A.g1 & B.g0)) and not

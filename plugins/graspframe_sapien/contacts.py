@@ -6,7 +6,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from graspframe.contacts import Contact
+from graspframe.common.contacts import Contact
 
 # A contact point counts when it pushes with at least this force: PhysX also reports
 # points within its contact offset that carry no force yet (the hand is about to touch).

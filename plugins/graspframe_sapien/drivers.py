@@ -8,14 +8,14 @@ import numpy as np
 import sapien
 from numpy.typing import NDArray
 
-from graspframe.contacts import Contact, PalmSensorReading
-from graspframe.errors import GraspframeError, UnknownNameError
-from graspframe.grasps import PALM
+from graspframe.common.contacts import Contact, PalmSensorReading
+from graspframe.common.errors import GraspframeError, UnknownNameError
+from graspframe.common.grasps import PALM
+from graspframe.common.transforms import inv_T
 from graspframe.hal.descriptions import DriveGains, HandDescription
 from graspframe.hal.drivers import ArmDriver, HandDriver, ObjectProbe
 from graspframe.hal.hand_control import HandController, holding_drive
-from graspframe.robot_model import CollisionModel
-from graspframe.transforms import inv_T
+from graspframe.robot_models.model import CollisionModel
 from graspframe_sapien.articulation import active_joints
 from graspframe_sapien.contacts import read_contacts
 from graspframe_sapien.poses import to_pose, to_T

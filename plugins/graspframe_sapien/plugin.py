@@ -1,6 +1,6 @@
 """Registers the SAPIEN backend."""
 
-from graspframe.plugins import hookimpl
+from graspframe.plugin_system import hookimpl
 from graspframe_sapien.backend import SapienBackend
 
 

@@ -6,7 +6,7 @@ import numpy as np
 import sapien
 from numpy.typing import NDArray
 
-from graspframe.transforms import R_from_quat_wxyz, make_T, quat_wxyz_from_R
+from graspframe.common.transforms import R_from_quat_wxyz, make_T, quat_wxyz_from_R
 
 
 def to_T(pose: sapien.Pose) -> NDArray[np.float64]:

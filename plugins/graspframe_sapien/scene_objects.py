@@ -6,18 +6,18 @@ import numpy as np
 import sapien
 from numpy.typing import NDArray
 
-from graspframe.defaults import TABLE_HALF_SIZE
-from graspframe.errors import GraspframeError
+from graspframe.common.defaults import TABLE_HALF_SIZE
+from graspframe.common.errors import GraspframeError
+from graspframe.common.transforms import quat_wxyz_from_R
 from graspframe.hal.objects import ObjectDescription
-from graspframe.transforms import quat_wxyz_from_R
 from graspframe_sapien.poses import to_pose
 
 TABLE_FRICTION = (0.6, 0.5)  # static, dynamic [-]
 # PhysX builds its own hull of each convex piece when it cooks it and drops the points it
 # finds within its plane tolerance (0.7 mm) of the hull under construction; the pieces
-# (graspframe/convex.py) keep no vertex within 1 mm of the others' hull, and on the
+# (graspframe/model_files/convex.py) keep no vertex within 1 mm of the others' hull, and on the
 # YCB scans PhysX still drops a vertex of 5 of 359 pieces, moving their surface inward
-# by at most 1.9 mm (tests/test_ycb_objects.py). A larger change is refused.
+# by at most 1.9 mm (tests/plugins/ycb/test_ycb_objects.py). A larger change is refused.
 MAX_COOKING_CHANGE = 0.0025  # [m]
 # PhysX separates penetrating bodies at up to this speed. Its default (1e32 m/s) let the
 # human hand squeezing the 58 g YCB tennis ball (62 overlapping pieces) fire it away at
@@ -75,7 +75,7 @@ def cooking_change(vertices: np.ndarray, cooked: np.ndarray) -> float:
 
 def build_mesh_object(scene: sapien.Scene, obj: ObjectDescription, T_world_object):
     """A mesh object as a dynamic actor made of its convex pieces (the ones the collision
-    checker and the planner use: graspframe/convex.py, object frame), with the mass and
+    checker and the planner use: graspframe/model_files/convex.py, object frame), with the mass and
     the inertia of the object set explicitly (the pieces overlap, so PhysX's own mass
     from their volumes would count the overlaps twice)."""
     material = sapien.physx.PhysxMaterial(

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from graspframe.common.transforms import as_pose
 from graspframe.hal.drivers import World, WorldConfig
-from graspframe.transforms import as_pose
 from graspframe_sapien.articulation import (
     configure_drives,
     create_scene,

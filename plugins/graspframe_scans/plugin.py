@@ -21,11 +21,11 @@ import os
 import tomllib
 from pathlib import Path
 
-from graspframe.errors import DescriptionError, PluginError
-from graspframe.files import MESH_SUFFIXES
+from graspframe.common.errors import DescriptionError, PluginError
+from graspframe.common.files import MESH_SUFFIXES
 from graspframe.hal.objects import ObjectDescription
-from graspframe.plugins import NotRegistered, hookimpl
-from graspframe.plugins.hookspecs import Register
+from graspframe.plugin_system import NotRegistered, hookimpl
+from graspframe.plugin_system.hookspecs import Register
 from graspframe.specs.objects import SIDECAR_SUFFIX, load_object_file, sidecar_of
 
 OBJECTS_ENV = "GRASPFRAME_OBJECTS"

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from graspframe.grasps import HumanGrasp
+from graspframe.common.grasps import HumanGrasp
 
 LARGE_DIAMETER = HumanGrasp.LARGE_DIAMETER
 SMALL_DIAMETER = HumanGrasp.SMALL_DIAMETER

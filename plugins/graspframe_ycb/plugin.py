@@ -3,7 +3,7 @@
 When GRASPFRAME_YCB_DIR names a folder in the YCB layout, every object folder in it
 (`<id>_<name>/google_16k/textured.obj`, e.g. `006_mustard_bottle` or `065-a_cups`) is
 registered as `ycb_<id>_<name>`, with `textured_vhacd.stl` beside it as its convex
-pieces when present (else they are computed once: graspframe/convex.py). Its mass and
+pieces when present (else they are computed once: graspframe/model_files/convex.py). Its mass and
 the grasp a person would use come from the set's table (catalogue.py: every object of
 the set, Calli et al. 2015); a sidecar beside the mesh (`google_16k/textured.toml`,
 graspframe/specs/objects.py) replaces them, or gives them for an object the table has
@@ -27,10 +27,10 @@ import os
 import re
 from pathlib import Path
 
-from graspframe.errors import DescriptionError, PluginError
+from graspframe.common.errors import DescriptionError, PluginError
 from graspframe.hal.objects import MESH, ObjectDescription
-from graspframe.plugins import NotRegistered, hookimpl
-from graspframe.plugins.hookspecs import Register
+from graspframe.plugin_system import NotRegistered, hookimpl
+from graspframe.plugin_system.hookspecs import Register
 from graspframe.specs.objects import load_object_file, sidecar_of
 from graspframe_ycb.catalogue import UNWEIGHED, YCB_OBJECTS
 

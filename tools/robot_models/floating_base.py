@@ -7,7 +7,7 @@ joints along the base x, y, z axes, then three revolute joints about z, y and x 
 yaw, pitch, roll). Every link is a massless frame marker with no collision shape, so only
 the hand touches anything. The base is placed per run with its axes along the goal palm
 orientation, so the revolute joints stay near zero, far from the gimbal lock at pitch
-+-90 deg. Joint names and limits are read from graspframe.floating_base.
++-90 deg. Joint names and limits are read from graspframe.robot_models.floating_base.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from graspframe.floating_base import BASE_LINK, FLANGE_LINK, JOINTS
+from graspframe.robot_models.floating_base import BASE_LINK, FLANGE_LINK, JOINTS
 from tools.robot_models.urdf_builder import UrdfBuilder
 
 OUTPUT = Path(__file__).resolve().parents[2] / "robots" / "floating_base" / "floating_base.urdf"

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from graspframe.transforms import R_from_axis_angle, inv_T, make_T, rpy_from_R
+from graspframe.common.transforms import R_from_axis_angle, inv_T, make_T, rpy_from_R
 from tools.robot_models.urdf_builder import Box, Cylinder, Sphere, UrdfBuilder
 
 PREFIX = "hh_"

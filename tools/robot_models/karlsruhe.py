@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from graspframe.transforms import make_T
+from graspframe.common.transforms import make_T
 from tools.robot_models.urdf_builder import Box, Cylinder, Sphere, UrdfBuilder
 
 OUTPUT = Path(__file__).resolve().parents[2] / "robots" / "karlsruhe" / "karlsruhe.urdf"
@@ -127,7 +127,7 @@ def _xyz_rpy(T: np.ndarray) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """URDF origin (xyz [m], rpy [rad], R = Rz(yaw) Ry(pitch) Rx(roll)) of a transform.
 
     At pitch = +-90 deg (gimbal lock) roll is set to 0 and yaw carries the rest: the
-    opposite of `graspframe.transforms.rpy_from_R`, kept because the shipped URDF's
+    opposite of `graspframe.common.transforms.rpy_from_R`, kept because the shipped URDF's
     digits follow it."""
     R = T[:3, :3]
     cos_pitch = math.hypot(R[0, 0], R[1, 0])

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 from graspframe_kuka.description import JOINTS
 
-from graspframe.transforms import rpy_from_R
+from graspframe.common.transforms import rpy_from_R
 from tools.robot_models.urdf_builder import Box, Cylinder, UrdfBuilder
 
 OUTPUT = Path(__file__).resolve().parents[2] / "robots" / "kuka" / "kuka.urdf"

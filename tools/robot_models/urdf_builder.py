@@ -29,7 +29,7 @@ def _fmt(values) -> str:
 
 
 def _rpy_to_R(rpy: Vec3) -> np.ndarray:
-    # The explicit product, not graspframe.transforms.R_from_rpy: the shipped URDFs' inertia
+    # The explicit product, not graspframe.common.transforms.R_from_rpy: the shipped URDFs' inertia
     # digits (round-off in the off-diagonal terms) follow this one.
     r, p, y = rpy
     Rx = np.array([[1, 0, 0], [0, math.cos(r), -math.sin(r)], [0, math.sin(r), math.cos(r)]])
