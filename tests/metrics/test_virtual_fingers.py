@@ -460,7 +460,7 @@ def test_bad_values_raise_graspframe_error():
         RealFingerContacts("", [[0, 0, 0]], [Z], [Z])
     with pytest.raises(GraspframeError, match="4x4"):
         group_by_real_finger([], np.eye(3))
-    with pytest.raises(GraspframeError, match=r"expected graspframe\.contacts\.Contact"):
+    with pytest.raises(GraspframeError, match=r"expected graspframe\.common\.contacts\.Contact"):
         group_by_real_finger([("index", X)], np.eye(4))
     with pytest.raises(GraspframeError, match="distinct"):
         virtual_fingers_from_real_fingers([finger_pushing("a", X), finger_pushing("a", Y)])
