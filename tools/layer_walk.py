@@ -75,6 +75,7 @@ def main() -> None:
     parser.add_argument("--hand", default="karlsruhe")
     parser.add_argument("--grasp", default="large_diameter")
     parser.add_argument("--floors", choices=("picture", "old"), default="picture")
+    parser.add_argument("--steps", action="store_true", help="print every step of the walk")
     args = parser.parse_args()
     floors = OLD_FLOORS if args.floors == "old" else picture_floors()
     rank = {part: i for i, parts in enumerate(floors.values()) for part in parts}
@@ -98,6 +99,7 @@ def main() -> None:
     )
     entries = {resolve.__code__, run_grasp.__code__}
     walk: list[int] = []
+    steps: list[str] = []  # the function each step of the walk enters
     calls = 0
     depth_of: dict[int, int] = {}
 
@@ -128,6 +130,7 @@ def main() -> None:
         calls += 1
         if not walk or walk[-1] != rank[part]:
             walk.append(rank[part])
+            steps.append(f"{module}.{frame.f_code.co_qualname}")
 
     sys.setprofile(profile)
     try:
@@ -136,6 +139,9 @@ def main() -> None:
     finally:
         sys.setprofile(None)
     climbs = collections.Counter((names[a], names[b]) for a, b in itertools.pairwise(walk) if b > a)
+    if args.steps:
+        for floor, step in zip(walk, steps, strict=True):
+            print(f"{names[floor]:>20}  {step}")
     print(f"calls into the core within depth {args.depth}: {calls}")
     print(f"floor changes: {len(walk) - 1}; climbs back up: {sum(climbs.values())}")
     for (low, high), n in climbs.most_common():

@@ -7,6 +7,15 @@ plugins add, such as hog_knn's `db build`). `interrupts` handles Ctrl-C and SIGT
 
 from graspframe.common.moved_modules import forward_old_names
 
+
+def _console_script() -> None:
+    """The `graspframe` console script (pyproject.toml's [project.scripts]): the typer
+    app of `commands`, imported only when the command runs."""
+    from graspframe.cli.commands import _console_script as run_command_line
+
+    run_command_line()
+
+
 # `graspframe.cli` was one module (now `graspframe.cli.commands`): its names still import
 # from here, with a DeprecationWarning.
 __getattr__ = forward_old_names(__name__, "graspframe.cli.commands")
