@@ -248,8 +248,8 @@ def check_mount(robot: MountedRobot) -> None:
         )
 
 
-def check_mounts(arm: ArmDescription, hand: HandDescription) -> None:
-    """`check_mount` for the hand bolted straight on and through each of its mountings:
-    what a run, a sweep and check-hand ask before anything runs."""
-    for mounting in (None, *hand.mountings):
-        mount(arm, hand, mounting=mounting)
+def check_mounts(arm: ArmDescription, hand: HandDescription) -> dict[str | None, MountedRobot]:
+    """The hand bolted straight on (None) and through each of its mountings (by name),
+    each mounted and checked (`check_mount`): what a run, a sweep and check-hand ask
+    before anything runs. A run carries them on to its planning."""
+    return {mounting: mount(arm, hand, mounting=mounting) for mounting in (None, *hand.mountings)}

@@ -3,7 +3,8 @@ it starts (`RunInputs`, `resolve`): bad input fails before anything runs."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -29,6 +30,7 @@ from graspframe.common.grasps import HUMAN_HAND, HumanGrasp
 from graspframe.hal.depth_camera import DepthCamera
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.hal.drivers import Backend
+from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.hal.objects import ObjectDescription
 from graspframe.plugin_system.registry import Registry
 from graspframe.run.scene import Scene, check_on_table, load_scene
@@ -153,6 +155,9 @@ class RunInputs:
     image: np.ndarray | None
     camera_cls: type[DepthCamera] | None = None  # the servo strategy's camera
     camera_noise: float = 1.0  # multiplies the simulated camera's noise model
+    # The hand on the arm, bolted straight on (None) and through each of its mountings,
+    # mounted and checked here, and planned with (empty for the floating mount).
+    robots: Mapping[str | None, MountedRobot] = field(default_factory=dict)
 
 
 def resolve(request: RunRequest, registry: Registry) -> RunInputs:
@@ -201,10 +206,11 @@ def resolve(request: RunRequest, registry: Registry) -> RunInputs:
     reference_backend_cls = registry.get_backend(DEFAULT_BACKEND)
     # Once every name is known, the models load here (once per process: planning and the
     # world reuse them), so that a broken model file fails before anything runs.
+    robots = {}
     if request.mount == MOUNT_ARM:
         from graspframe.robot_models.mounting import check_mounts
 
-        check_mounts(arm, hand)  # a hand whose links overlap the arm's fails here
+        robots = check_mounts(arm, hand)  # a hand whose links overlap the arm's fails here
     else:
         hand.urdf()
     return RunInputs(
@@ -220,4 +226,5 @@ def resolve(request: RunRequest, registry: Registry) -> RunInputs:
         image,
         camera_cls,
         request.camera_noise,
+        robots,
     )

@@ -118,7 +118,9 @@ def plan(
     )  # fmt: skip
     if request.mount == MOUNT_FLOATING:
         return floating_plan(target, held=inputs.held_test)
-    return choose_plan(target, inputs.arm, T_world_base=np.eye(4), held=inputs.held_test)
+    return choose_plan(
+        target, inputs.arm, T_world_base=np.eye(4), held=inputs.held_test, robots=inputs.robots
+    )
 
 
 def choose_policy(

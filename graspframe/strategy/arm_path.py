@@ -28,7 +28,7 @@ shapes are checked like the arm's links.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -143,17 +143,19 @@ def choose_plan(
     params: PlannerParams | None = None,
     executor_params: ExecutorParams | None = None,
     held: HeldTest | None = None,
+    robots: Mapping[str | None, MountedRobot] | None = None,
 ) -> CheckedPlan:
     """The first variant of the grasp whose path (driven with `executor_params`, lifted
     by `held`) is collision-free on the arm standing at T_world_base, the hand straight
     on the flange, else through each of its mountings in turn; PlanningError listing
-    every variant's reason when none is."""
+    every variant's reason when none is. robots: the hand already mounted, by mounting
+    (None: straight on), as `check_mounts` gives them; mounted here when not given."""
     executor_params = executor_params or ExecutorParams()
     refused: list[str] = []
     hand, obj = target.hand, target.obj
     first = plan_grasp(target)
     for mounting in (None, *hand.mountings):
-        robot = mount(arm, hand, mounting=mounting)
+        robot = (robots or {}).get(mounting) or mount(arm, hand, mounting=mounting)
         ik = IkSolver(robot)
         for variant in variants(obj, first.approach == "side"):
             variant = replace(variant, mounting=mounting)
