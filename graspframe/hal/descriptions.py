@@ -78,6 +78,10 @@ class JointSpec:
     def contains(self, q: float, tol: float = 1e-9) -> bool:
         return self.lower - tol <= q <= self.upper + tol
 
+    def excess(self, q: float) -> float:
+        """[rad] ([m]) past the nearer position limit; 0 within them."""
+        return max(self.lower - q, q - self.upper, 0.0)
+
 
 @dataclass(frozen=True)
 class Coupling:

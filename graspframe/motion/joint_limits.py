@@ -17,6 +17,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from graspframe.hal.descriptions import JointSpec
 from graspframe.model_files.urdf_model import UrdfModel
 
 TOLERANCE_DEG = 2.0  # [deg] a revolute joint past its limit by more than this is reported
@@ -24,23 +25,10 @@ TOLERANCE_MM = 2.0  # [mm] ... a prismatic joint
 MM_PER_M = 1000.0
 
 
-@dataclass(frozen=True)
-class JointLimit:
-    """A joint's position limits in the model: lower, upper [rad] ([m] when prismatic)."""
-
-    joint: str
-    lower: float
-    upper: float
-    prismatic: bool
-
-    def excess(self, position: float) -> float:
-        """[rad] ([m]) past the nearer limit; 0 within them."""
-        return max(self.lower - position, position - self.upper, 0.0)
-
-
-def model_joint_limits(model: UrdfModel) -> dict[str, JointLimit]:
+def model_joint_limits(model: UrdfModel) -> dict[str, JointSpec]:
     """The limits of every revolute and prismatic joint of the model, by name, as its URDF
-    text declares them (continuous and fixed joints have none)."""
+    text declares them (continuous and fixed joints have none); a motion limit the file
+    leaves out is infinite."""
     limits = {}
     for joint in model.root().iter("joint"):
         kind = joint.get("type")
@@ -48,9 +36,23 @@ def model_joint_limits(model: UrdfModel) -> dict[str, JointLimit]:
         if kind not in ("revolute", "prismatic") or element is None:
             continue
         name = joint.get("name", "")
-        lower, upper = float(element.get("lower", 0.0)), float(element.get("upper", 0.0))
-        limits[name] = JointLimit(name, lower, upper, prismatic=kind == "prismatic")
+        limits[name] = JointSpec(
+            name,
+            float(element.get("lower", 0.0)),
+            float(element.get("upper", 0.0)),
+            max_velocity=float(element.get("velocity", math.inf)),
+            max_effort=float(element.get("effort", math.inf)),
+        )
     return limits
+
+
+def prismatic_joints(model: UrdfModel) -> frozenset[str]:
+    """The names of the model's prismatic joints (their positions are in [m])."""
+    return frozenset(
+        joint.get("name", "")
+        for joint in model.root().iter("joint")
+        if joint.get("type") == "prismatic"
+    )
 
 
 @dataclass(frozen=True)
@@ -58,34 +60,36 @@ class LimitExcess:
     """A joint's largest excess past its model limit in a run.
 
     excess, position: [rad] ([m] for a prismatic joint) past the limit, and the joint's
-    position then; limit: the model's; sim_time: [s] when; stage: the last execution
-    event before it (the stage the grasp was in, e.g. "execute.closed": the hold).
+    position then; limit: the model's (a `JointSpec` of the model file's <limit>);
+    sim_time: [s] when; stage: the last execution event before it (the stage the grasp was
+    in, e.g. "execute.closed": the hold); prismatic: the joint slides (its values in [m]).
     """
 
-    limit: JointLimit
+    limit: JointSpec
     excess: float
     position: float
     sim_time: float
     stage: str
+    prismatic: bool = False
 
     @property
     def joint(self) -> str:
-        return self.limit.joint
+        return self.limit.name
 
     @property
     def over_tolerance(self) -> bool:
         """Past the limit by more than the tolerance (TOLERANCE_DEG, TOLERANCE_MM)."""
-        if self.limit.prismatic:
+        if self.prismatic:
             return self.excess * MM_PER_M > TOLERANCE_MM
         return math.degrees(self.excess) > TOLERANCE_DEG
 
     def _shown(self, value: float) -> float:
         """A value of this joint in the unit shown: [mm] when prismatic, else [deg]."""
-        return value * MM_PER_M if self.limit.prismatic else math.degrees(value)
+        return value * MM_PER_M if self.prismatic else math.degrees(value)
 
     @property
     def unit(self) -> str:
-        return "mm" if self.limit.prismatic else "deg"
+        return "mm" if self.prismatic else "deg"
 
     @property
     def excess_shown(self) -> float:
@@ -110,17 +114,24 @@ class LimitExcess:
         """The excess from its JSON values (graspframe.common.json_files.jsonable of one: every
         field, in [rad] and [m]), as a cached human reference keeps it."""
         limit = data["limit"]
+
+        def motion_limit(key: str) -> float:  # an infinite limit is kept as null
+            value = limit.get(key)
+            return math.inf if value is None else float(value)
+
         return cls(
-            JointLimit(
-                str(limit["joint"]),
+            JointSpec(
+                str(limit.get("name", limit.get("joint"))),  # "joint": an older entry's
                 float(limit["lower"]),
                 float(limit["upper"]),
-                bool(limit["prismatic"]),
+                motion_limit("max_velocity"),
+                motion_limit("max_effort"),
             ),
             float(data["excess"]),
             float(data["position"]),
             float(data["sim_time"]),
             str(data["stage"]),
+            bool(data.get("prismatic", limit.get("prismatic", False))),
         )
 
     def describe(self) -> str:
@@ -151,7 +162,7 @@ class JointLimitReport:
     def largest_excess_deg(self) -> float:
         """[deg] the largest excess of a revolute joint (0 when every one kept its limits)."""
         return max(
-            (math.degrees(e.excess) for e in self.excesses if not e.limit.prismatic),
+            (math.degrees(e.excess) for e in self.excesses if not e.prismatic),
             default=0.0,
         )
 
@@ -175,6 +186,7 @@ class JointLimitMonitor:
 
     def __init__(self, model: UrdfModel) -> None:
         self.limits = model_joint_limits(model)
+        self.prismatic = prismatic_joints(model)
         self.stage = "start"
         self._largest: dict[str, LimitExcess] = {}
 
@@ -191,7 +203,8 @@ class JointLimitMonitor:
             kept = self._largest.get(name)
             if excess <= 0.0 or (kept is not None and excess <= kept.excess):
                 continue
-            larger = LimitExcess(limit, excess, position, sim_time, self.stage)
+            prismatic = name in self.prismatic
+            larger = LimitExcess(limit, excess, position, sim_time, self.stage, prismatic)
             if larger.over_tolerance and not (kept is not None and kept.over_tolerance):
                 newly_over.append(larger)
             self._largest[name] = larger
@@ -199,5 +212,5 @@ class JointLimitMonitor:
 
     def report(self) -> JointLimitReport:
         """Every joint that passed its limit so far, largest excess first."""
-        ordered = sorted(self._largest.values(), key=lambda e: (e.limit.prismatic, -e.excess))
+        ordered = sorted(self._largest.values(), key=lambda e: (e.prismatic, -e.excess))
         return JointLimitReport(tuple(ordered))

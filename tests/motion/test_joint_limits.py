@@ -20,12 +20,11 @@ from graspframe.common.contacts import Contact
 from graspframe.common.grasps import HumanGrasp
 from graspframe.common.json_files import jsonable
 from graspframe.common.transforms import R_from_rpy, inv_T, make_T
-from graspframe.hal import HandDescription, ObjectDescription, World, WorldConfig
+from graspframe.hal import HandDescription, JointSpec, ObjectDescription, World, WorldConfig
 from graspframe.model_files.urdf_model import UrdfModel
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.motion.joint_limits import (
     TOLERANCE_DEG,
-    JointLimit,
     JointLimitMonitor,
     LimitExcess,
 )
@@ -303,7 +302,7 @@ def test_the_monitor_keeps_each_joints_largest_excess_and_tells_a_new_violation_
 
 
 def test_the_human_references_violations_are_cached_and_reported(tmp_path):
-    limit = JointLimit("hh_thumb_ip", math.radians(-20.0), math.radians(80.0), False)
+    limit = JointSpec("hh_thumb_ip", math.radians(-20.0), math.radians(80.0), 1.0, 1.0)
     violation = LimitExcess(limit, math.radians(91.0), math.radians(-111.0), 1.5, "execute.closed")
     obj = REGISTRY.get_object("large_cylinder")
     reference = HumanReference(
@@ -334,3 +333,21 @@ def test_the_human_references_violations_are_cached_and_reported(tmp_path):
     assert "joint limit of the human reference: hh_thumb_ip past it by 91.0 deg" in (
         console.export_text()
     )
+
+
+def test_an_excess_reads_back_from_its_json_and_from_an_older_entrys():
+    """A cached human reference keeps its excesses as JSON: the limit as a JointSpec
+    (infinite motion limits as null), or, in an older entry, as {joint, lower, upper,
+    prismatic}."""
+    limit = JointSpec("slide", 0.0, 0.1, math.inf, math.inf)
+    excess = LimitExcess(limit, 0.0025, 0.1025, 0.3, "execute.closed", prismatic=True)
+    assert LimitExcess.from_json(jsonable(excess)) == excess
+    older = {
+        "limit": {"joint": "slide", "lower": 0.0, "upper": 0.1, "prismatic": True},
+        "excess": 0.0025,
+        "position": 0.1025,
+        "sim_time": 0.3,
+        "stage": "execute.closed",
+    }
+    assert LimitExcess.from_json(older) == excess
+    assert excess.to_dict()["excess_mm"] == pytest.approx(2.5)
