@@ -21,7 +21,7 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from graspframe.common.grasps import PALM
 from graspframe.common.transforms import inv_T
 from graspframe.plugin_system.registry import default_registry
-from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.model import CollisionModel, model_of
 from graspframe.robot_models.shapes import geometry_mesh
 
 OUT_DIR = Path(__file__).parents[1] / "docs" / "images"
@@ -38,7 +38,7 @@ def shape_faces(shape, T) -> np.ndarray:
 
 
 def draw(hand, preshape, path: Path) -> None:
-    model = CollisionModel(hand.urdf())
+    model = CollisionModel(model_of(hand))
     finger_of_link = hand.finger_of_link()
     colours = {f: FINGER_COLOURS[i % len(FINGER_COLOURS)] for i, f in enumerate(hand.real_fingers)}
     colours[PALM] = PALM_COLOUR

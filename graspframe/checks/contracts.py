@@ -33,7 +33,7 @@ from graspframe.hal.descriptions import (
 from graspframe.hal.drivers import ArmDriver, Backend, World, WorldConfig
 from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.hal.objects import ObjectDescription
-from graspframe.robot_models.model import CollisionModel, summarize_urdf
+from graspframe.robot_models.model import CollisionModel, model_of, summarize_urdf
 
 NAME_PATTERN = re.compile(r"^[a-z][a-z0-9_]*$")
 # URDF limits are written with limited precision; a description derived from the same
@@ -87,7 +87,7 @@ def _model_problems(
 ) -> list[str]:
     """Joints and links against the model. links: (role, link name) pairs."""
     try:
-        model = description.urdf()
+        model = model_of(description)
         urdf = summarize_urdf(model)
     except GraspframeError as exc:
         return [str(exc)]
@@ -217,7 +217,7 @@ def _fingertip_problems(hand: HandDescription) -> tuple[list[str], dict[str, str
 def _model_has_links(hand: HandDescription, links: set[str]) -> bool:
     """True when the model loads and has all these links."""
     try:
-        return links <= summarize_urdf(hand.urdf()).links
+        return links <= summarize_urdf(model_of(hand)).links
     except GraspframeError:
         return False
 
@@ -226,7 +226,7 @@ def palm_direction_problems(hand: HandDescription) -> list[str]:
     """The palm frame's +z must point out of the palm: a point PALM_PROBE_OUT in front of
     the palm surface is in free space, a point PALM_PROBE_IN behind it is in a palm link."""
     try:
-        model = CollisionModel(hand.urdf())
+        model = CollisionModel(model_of(hand))
     except GraspframeError as exc:
         return [str(exc)]
     T_root_palm = model.T_root_frame(hand.palm_frame)

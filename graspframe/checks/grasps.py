@@ -33,7 +33,7 @@ from graspframe.common.transforms import make_T
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.drivers import Backend, WorldConfig
 from graspframe.hal.objects import ObjectDescription
-from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.model import CollisionModel, model_of
 from graspframe.strategy.held_check import GRAVITY
 from graspframe.strategy.reference_poses import R_object_palm_for_design
 
@@ -110,7 +110,7 @@ class FingerGap:
 def closing_gaps(hand: HandDescription, preshape: HandPreshape) -> list[FingerGap]:
     """Gaps of the preshape's opposed pairs (or of every pair of real fingers when it
     declares none), open and closed in free space."""
-    model = CollisionModel(hand.urdf())
+    model = CollisionModel(model_of(hand))
     fingers = list(hand.real_fingers)  # the palm opposes the fingers of a power grasp
     pairs = list(preshape.opposed) or list(itertools.combinations(fingers, 2))
     gaps = {}

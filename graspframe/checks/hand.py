@@ -61,7 +61,7 @@ from graspframe.common.files import make_folder
 from graspframe.common.grasps import HUMAN_HAND
 from graspframe.hal.descriptions import ArmDescription, HandDescription, HandPreshape, JointSpec
 from graspframe.hal.drivers import Backend
-from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.model import CollisionModel, model_of
 
 
 @dataclass
@@ -120,7 +120,7 @@ def _description_check(hand: HandDescription) -> CheckResult:
     # be built, even though the simulator, which runs without self-collision, would go on.
     measured = hand_summary(hand)
     if not problems:
-        collisions = open_preshape_collisions(hand, CollisionModel(hand.urdf()))
+        collisions = open_preshape_collisions(hand, CollisionModel(model_of(hand)))
         clear = [name for name, pairs in collisions.items() if not pairs]
         measured.append(f"open preshapes free of self-collision: {', '.join(clear) or 'none'}")
         problems = self_collision_problems(hand)
@@ -185,7 +185,7 @@ def _posed_pictures(hand: HandDescription, folder: Path) -> list[str]:
     from graspframe.common.errors import GraspframeError
 
     try:
-        hand.urdf()
+        model_of(hand)
     except GraspframeError as exc:
         return [f"no pictures: the model does not load ({exc})"]
     lines = []

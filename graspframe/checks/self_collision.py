@@ -14,7 +14,7 @@ import math
 
 from graspframe.common.errors import GraspframeError
 from graspframe.hal.descriptions import HandDescription
-from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.model import CollisionModel, model_of
 
 
 def signed_link_distance(model: CollisionModel, link_a: str, link_b: str) -> float:
@@ -71,7 +71,7 @@ def self_collision_problems(hand: HandDescription) -> list[str]:
     """Every pair of links that overlaps or touches in a preshape's open posture, with
     its signed distance, in plain words."""
     try:
-        model = CollisionModel(hand.urdf())
+        model = CollisionModel(model_of(hand))
         collisions = open_preshape_collisions(hand, model)
     except GraspframeError as exc:
         return [str(exc)]

@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike
 from graspframe.common.errors import DescriptionError, UnknownNameError
 from graspframe.common.grasps import HumanGrasp
 from graspframe.hal.mountings import AdapterShape, Mounting
-from graspframe.model_files.urdf_model import FrameOffset, UrdfModel, description_model
+from graspframe.model_files.urdf_model import FrameOffset, ModelFile, UrdfModel, load_model_file
 
 FINGERTIP_FRAMES_KEY = "fingertip_frames"
 """The key of `HandDescription.extras` that named each real finger's fingertip frame
@@ -54,6 +54,15 @@ def joints_by_name(
         values = np.asarray(q_arm, dtype=float).ravel()
         q.update(zip(arm_joint_names, values.tolist(), strict=True))
     return q
+
+
+def _warn_urdf(kind: str) -> None:
+    warnings.warn(
+        f"{kind}.urdf() is deprecated: a description is data; load its model with "
+        "graspframe.robot_models.model.model_of(description)",
+        DeprecationWarning,
+        stacklevel=3,
+    )
 
 
 @dataclass(frozen=True)
@@ -285,15 +294,21 @@ class HandDescription:
     def joint_names(self) -> tuple[str, ...]:
         return tuple(j.name for j in self.joints)
 
-    def urdf(self) -> UrdfModel:
-        """The hand's model as every tool loads it (read once per process)."""
-        return description_model(
+    def model_file(self) -> ModelFile:
+        """How the hand's model file is read (data: graspframe.robot_models.model.model_of
+        reads it): rooted at its mount link."""
+        return ModelFile(
             self.model_path,
             self.packages,
             self.frames,
             root_at=self.root_link,
             root_role="the mount link",
         )
+
+    def urdf(self) -> UrdfModel:
+        """The hand's model. Deprecated: use graspframe.robot_models.model.model_of(hand)."""
+        _warn_urdf("HandDescription")
+        return load_model_file(self.model_file())
 
     def mounting(self, name: str) -> Mounting:
         try:
@@ -386,12 +401,13 @@ class ArmDescription:
     def joint_names(self) -> tuple[str, ...]:
         return tuple(j.name for j in self.joints)
 
-    def urdf(self) -> UrdfModel:
-        """The arm's model as every tool loads it, rooted at its base, cut at the flange,
-        without its vendor tool's shapes (read once per process)."""
+    def model_file(self) -> ModelFile:
+        """How the arm's model file is read (data: graspframe.robot_models.model.model_of
+        reads it): rooted at its base, cut at the flange, without its vendor tool's
+        shapes."""
         offset = self.frames.get(self.flange_link)
         cut_below = self.flange_link if offset is None else offset.parent
-        return description_model(
+        return ModelFile(
             self.model_path,
             self.packages,
             self.frames,
@@ -401,6 +417,11 @@ class ArmDescription:
             root_role="the base link",
             tool_links=self.tool_links,
         )
+
+    def urdf(self) -> UrdfModel:
+        """The arm's model. Deprecated: use graspframe.robot_models.model.model_of(arm)."""
+        _warn_urdf("ArmDescription")
+        return load_model_file(self.model_file())
 
     def with_name_prefix(self, prefix: str) -> ArmDescription:
         """The same arm with `prefix` before every link and joint name."""

@@ -360,6 +360,32 @@ def _file_key(path: Path) -> tuple:
     return (str(path), stat.st_mtime_ns, stat.st_size)
 
 
+@dataclass(frozen=True)
+class ModelFile:
+    """How a robot's model file is read, as data: the file, its package map, the frames
+    it lacks, the link an arm is cut below, the prefix of its names, the link it is
+    rooted at (`root_role` names that link in messages) and the links whose shapes are a
+    vendor tool's. A description says this (`model_file()`); `load_model_file` reads it."""
+
+    path: Path
+    packages: Mapping[str, Path] = field(default_factory=dict)
+    frames: Mapping[str, FrameOffset] = field(default_factory=dict)
+    cut_below: str | None = None
+    prefix: str = ""
+    root_at: str | None = None
+    root_role: str = "the root link"
+    tool_links: Collection[str] = ()
+
+
+def load_model_file(model_file: ModelFile) -> UrdfModel:
+    """The model `model_file` says, as every tool loads it (once per process for the
+    same file, unchanged on disk, and options)."""
+    m = model_file
+    return description_model(
+        m.path, m.packages, m.frames, m.cut_below, m.prefix, m.root_at, m.root_role, m.tool_links
+    )
+
+
 def description_model(
     path: Path,
     packages: Mapping[str, Path],

@@ -42,6 +42,7 @@ from graspframe.pictures.panel import (
 )
 from graspframe.pictures.render3d import Camera, Placed, box_corners, fit_view
 from graspframe.pictures.sheet import compose, write_png
+from graspframe.robot_models.model import model_of
 
 PANEL_PX = 400  # [px] side of a square panel
 SIDE_VIEW_DIRECTION = (0.0, -1.0, 0.36)  # palm frame: from -y, 20 deg above the palm plane
@@ -65,7 +66,7 @@ def draw_hand_grasp(
     of the real fingers `contact_fingers` (one each; may be empty), captioned `caption`,
     to the PNG `path` (atomically; folders created); returns `path`.
 
-    model: the model to draw (default `hand.urdf()`; a hand alone, its root anywhere:
+    model: the model to draw (default `model_of(hand)`; a hand alone, its root anywhere:
     the picture is in the palm frame). InputError (one line) for unusable input.
     """
     path = Path(path)
@@ -75,7 +76,7 @@ def draw_hand_grasp(
     colours = style.finger_colours(hand.finger_of_link())
     if model is None:
         try:
-            model = hand.urdf()
+            model = model_of(hand)
         except GraspframeError as exc:
             raise InputError(f"hand picture: {exc}") from None
     figure = checked_figure(

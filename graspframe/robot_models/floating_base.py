@@ -22,6 +22,7 @@ from graspframe.common.transforms import inv_T
 from graspframe.hal.arm_datasheet import bundled_arm
 from graspframe.hal.descriptions import ArmDescription, DriveGains, HandDescription, JointSpec
 from graspframe.hal.mounted_robot import MountedRobot
+from graspframe.robot_models.model import model_of
 
 NAME = "floating"
 MODEL_FILE = "floating_base/floating_base.urdf"
@@ -99,5 +100,5 @@ def mount_floating(
 
     robot = mount(floating_base(), hand)
     # The hand's root sits on the flange, so its root -> palm is flange -> palm.
-    T_flange_palm = CollisionModel(hand.urdf()).T_root_frame(hand.palm_frame)
+    T_flange_palm = CollisionModel(model_of(hand)).T_root_frame(hand.palm_frame)
     return robot, T_world_base_for(T_world_palm, T_flange_palm)

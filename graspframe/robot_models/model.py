@@ -14,7 +14,8 @@ from collections.abc import Set as AbstractSet
 from dataclasses import dataclass
 
 from graspframe.common.errors import DescriptionError
-from graspframe.model_files.urdf_model import UrdfModel
+from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.model_files.urdf_model import UrdfModel, load_model_file
 
 
 @dataclass(frozen=True)
@@ -75,6 +76,12 @@ def summarize_urdf(model: UrdfModel) -> UrdfSummary:
     """Joint limits and link names of a model, read by Pinocchio (each follower
     separately)."""
     return _summary(model.text, model.describe())
+
+
+def model_of(description: HandDescription | ArmDescription) -> UrdfModel:
+    """A hand's or an arm's model as every tool loads it: its `model_file()`, read once
+    per process (graspframe.model_files.urdf_model.load_model_file)."""
+    return load_model_file(description.model_file())
 
 
 @functools.lru_cache(maxsize=64)

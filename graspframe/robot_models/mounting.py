@@ -31,6 +31,7 @@ from graspframe.hal.descriptions import AdapterShape, ArmDescription, HandDescri
 from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.model_files.urdf_elements import set_origin
 from graspframe.model_files.urdf_model import UrdfModel, combine
+from graspframe.robot_models.model import model_of
 
 MOUNT_OVERLAP_TOLERANCE = 0.002  # [m] the deepest overlap a mount may have (see above)
 
@@ -66,7 +67,7 @@ def _geometry_attributes(shape: AdapterShape) -> dict[str, str]:
 
 def _without_clashes(arm: ArmDescription, hand: HandDescription) -> ArmDescription:
     """The arm, its names prefixed with "<arm name>_" when it shares any with the hand."""
-    arm_model, hand_model = arm.urdf(), hand.urdf()
+    arm_model, hand_model = model_of(arm), model_of(hand)
     shared = (arm_model.link_names | arm_model.joint_names) & (
         hand_model.link_names | hand_model.joint_names
     )
@@ -82,14 +83,14 @@ def combined_model(
     """(the model of hand-on-arm, name of the mount joint); `mounting`'s adapter, if it
     has shapes, is a link fixed to the hand's root link. The arm's names must not clash
     with the hand's (`mount` prefixes them)."""
-    if arm.flange_link not in arm.urdf().link_names:
+    if arm.flange_link not in model_of(arm).link_names:
         raise DescriptionError(f"arm {arm.name!r}: flange link {arm.flange_link!r} not in model")
-    if hand.root_link not in hand.urdf().link_names:
+    if hand.root_link not in model_of(hand).link_names:
         raise DescriptionError(f"hand {hand.name!r}: root link {hand.root_link!r} not in model")
     extra: list[ET.Element] = []
     if mounting is not None and mounting.adapter:
         adapter_link = f"{hand.root_link}_adapter"
-        if adapter_link in arm.urdf().link_names | hand.urdf().link_names:
+        if adapter_link in model_of(arm).link_names | model_of(hand).link_names:
             raise DescriptionError(f"the adapter link name {adapter_link!r} is taken")
         extra.append(_adapter_link(adapter_link, mounting))
         joint = ET.Element("joint", {"name": f"{adapter_link}_joint", "type": "fixed"})
@@ -100,8 +101,8 @@ def combined_model(
     mount_joint = f"mount_{arm.name}_{hand.name}"
     model = combine(
         f"{arm.name}_{hand.name}",
-        arm.urdf(),
-        hand.urdf(),
+        model_of(arm),
+        model_of(hand),
         mount_joint,
         arm.flange_link,
         hand.root_link,
@@ -162,7 +163,7 @@ class MountOverlap:
 def _postures(hand: HandDescription) -> list[tuple[str, dict[str, float]]]:
     """(name, joint values [rad]) of every preshape open and closed, followers included
     (joints the model lacks left out: the description check names them)."""
-    joints = hand.urdf().joint_names
+    joints = model_of(hand).joint_names
     postures = []
     for preshape in hand.preshapes.values():
         for label, q in (("open", preshape.open_q), ("closed", preshape.closed_q)):
@@ -177,7 +178,7 @@ def mount_overlaps(
 ) -> list[MountOverlap]:
     """Every (hand link, arm link) pair overlapping by more than `tolerance` [m], the
     deepest posture of each, deepest first (see the module docstring)."""
-    if not any(True for _ in robot.arm.urdf().root().iter("collision")):
+    if not any(True for _ in model_of(robot.arm).root().iter("collision")):
         return []  # an arm without shapes (the floating base) overlaps nothing
     postures = _postures(robot.hand)
     key = (
@@ -201,8 +202,8 @@ def _measure_overlaps(
 
     from graspframe.robot_models.model import CollisionModel
 
-    arm_links = robot.arm.urdf().link_names
-    hand_links = robot.hand.urdf().link_names
+    arm_links = model_of(robot.arm).link_names
+    hand_links = model_of(robot.hand).link_names
     collision = CollisionModel(robot.model)
     q_arm = dict(zip(robot.arm.joint_names, robot.arm.home_q, strict=True))
     deepest: dict[tuple[str, str], MountOverlap] = {}

@@ -33,6 +33,7 @@ from graspframe.hal.drivers import Backend
 from graspframe.hal.mounted_robot import MountedRobot
 from graspframe.hal.objects import ObjectDescription
 from graspframe.plugin_system.registry import Registry
+from graspframe.robot_models.model import model_of
 from graspframe.run.scene import Scene, check_on_table, load_scene
 from graspframe.strategy.held_check import HeldTest
 
@@ -212,7 +213,7 @@ def resolve(request: RunRequest, registry: Registry) -> RunInputs:
 
         robots = check_mounts(arm, hand)  # a hand whose links overlap the arm's fails here
     else:
-        hand.urdf()
+        model_of(hand)
     return RunInputs(
         hand,
         arm,

@@ -19,6 +19,7 @@ from graspframe.hal.descriptions import (
     HandPreshape,
 )
 from graspframe.model_files.urdf_model import description_model
+from graspframe.robot_models.model import model_of
 from graspframe.specs.model import read_drive, read_frames, read_joints, read_packages
 from graspframe.specs.mountings import read_mountings
 from graspframe.specs.reader import SpecReader
@@ -243,7 +244,7 @@ def fingertip_height(
     above the palm surface (along the palm frame's +z)."""
     from graspframe.robot_models.model import CollisionModel
 
-    model = CollisionModel(hand.urdf())
+    model = CollisionModel(model_of(hand))
 
     def height(q: Mapping[str, float]) -> float:
         model.place(hand.with_model_followers(dict(q)))

@@ -27,7 +27,7 @@ from graspframe.common.transforms import inv_T
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.objects import ObjectDescription
 from graspframe.model_files.urdf_model import UrdfModel
-from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.model import CollisionModel, model_of
 from graspframe.robot_models.shapes import geometry_mesh, object_coal_geometries
 
 SWEEP_SAMPLES = 16  # configurations between open and closed
@@ -102,7 +102,7 @@ def closing_sweep(
     finger stops where one of its links first touches it."""
     import coal
 
-    model = _collision_model(hand.urdf())
+    model = _collision_model(model_of(hand))
     finger_joints = _joints_of_fingers(hand, model)
     finger_of_link = hand.finger_of_link()
     geometries: list = []
@@ -187,7 +187,7 @@ def lowest_points(
 ) -> dict[str, float]:
     """link -> [m] the lowest world height of its shapes over the configurations,
     relative to the palm origin (negative: below it), the palm turned by R_world_palm."""
-    model = _collision_model(hand.urdf())
+    model = _collision_model(model_of(hand))
     lowest: dict[str, float] = {}
     for q in configurations:
         model.place(q)
@@ -206,7 +206,7 @@ def lowest_points(
 def fingertip_links(hand: HandDescription) -> dict[str, str]:
     """real finger (not the palm) -> its fingertip: its shaped link furthest down the
     kinematic chain."""
-    model = _collision_model(hand.urdf())
+    model = _collision_model(model_of(hand))
     shaped = {link for link, _shape, _T in model.shapes()}
 
     def depth(link: str) -> int:

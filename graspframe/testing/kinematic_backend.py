@@ -26,6 +26,7 @@ from graspframe.common.transforms import as_pose, inv_T
 from graspframe.hal.descriptions import ArmDescription, joints_by_name
 from graspframe.hal.drivers import ArmDriver, Backend, HandDriver, ObjectProbe, World, WorldConfig
 from graspframe.hal.hand_control import HandController
+from graspframe.robot_models.model import model_of
 from graspframe.testing.kinematic_geometry import KinematicGeometry
 
 CONTACT_DISTANCE = 1e-3  # [m] a hand shape this close to the object touches it
@@ -212,7 +213,7 @@ class KinematicWorld(World):
     def __init__(self, config: WorldConfig):
         self.config = config
         self._steps = 0
-        model = config.hand.urdf() if config.robot is None else config.robot.model
+        model = model_of(config.hand) if config.robot is None else config.robot.model
         self._geometry = KinematicGeometry(model, config.hand, config.object, config.T_world_object)
         self.arm = None
         if config.robot is not None:

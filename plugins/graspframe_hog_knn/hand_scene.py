@@ -19,6 +19,7 @@ from graspframe.common.grasps import HumanGrasp
 from graspframe.common.transforms import inv_T, transform_points
 from graspframe.hal.objects import ObjectDescription
 from graspframe.robot_models import shapes
+from graspframe.robot_models.model import model_of
 from graspframe.robot_models.shapes import geometry_primitive, unit_primitive, unit_scale
 
 PALM_FRAME = "hh_palm_frame"
@@ -88,7 +89,7 @@ class HandModel:
         from graspframe.robot_models.model import CollisionModel
 
         self.description = default_registry().get_hand("human")
-        self.collision = CollisionModel(self.description.urdf())
+        self.collision = CollisionModel(model_of(self.description))
         meshes = [_coal_mesh(shape) for _, shape, _ in self.collision.shapes()]
         # All shapes' triangles in one array, each shape a slice of it (in shape order),
         # so that posing the hand fills one preallocated array.

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.common.grasps import HumanGrasp
+from graspframe.robot_models.model import model_of
 from graspframe_landmarks.features import angle_features
 
 HUMAN_HAND = "human"  # the registered hand whose postures are the database
@@ -57,7 +58,7 @@ class HumanModelLandmarks:
         from graspframe.robot_models.model import CollisionModel
 
         self.hand = get_hand(HUMAN_HAND)
-        self.model = CollisionModel(self.hand.urdf())
+        self.model = CollisionModel(model_of(self.hand))
 
     def posture(self, grasp: HumanGrasp, closure: float) -> dict[str, float]:
         """Joint positions [rad] at `closure` between the grasp's open and closed q."""

@@ -15,7 +15,7 @@ from graspframe.common.transforms import inv_T
 from graspframe.hal.descriptions import DriveGains, HandDescription
 from graspframe.hal.drivers import ArmDriver, HandDriver, ObjectProbe
 from graspframe.hal.hand_control import HandController, holding_drive
-from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.model import CollisionModel, model_of
 from graspframe_sapien.articulation import active_joints
 from graspframe_sapien.contacts import read_contacts
 from graspframe_sapien.poses import to_pose, to_T
@@ -102,7 +102,7 @@ class SapienHandDriver(HandDriver):
         links = {link.name: link for link in articulation.get_links()}
         self._palm_link = links[hand.palm_frame]
         # From the model, not the simulator: link poses are only valid after a step.
-        self._T_root_palm = CollisionModel(hand.urdf()).T_root_frame(hand.palm_frame)
+        self._T_root_palm = CollisionModel(model_of(hand)).T_root_frame(hand.palm_frame)
         # Contacts of the first touching step since the last palm sensor reading, and
         # whether any step since then touched a palm link.
         self._first_touch: list[Contact] = []

@@ -7,6 +7,7 @@ import numpy as np
 
 from graspframe.common.transforms import as_pose
 from graspframe.hal.drivers import World, WorldConfig
+from graspframe.robot_models.model import model_of
 from graspframe_sapien.articulation import (
     configure_drives,
     create_scene,
@@ -44,7 +45,7 @@ class SapienWorld(World):
         self.object = SapienObjectProbe(self._object_actor) if self._object_actor else None
 
         hand, arm = config.hand, config.arm
-        model = hand.urdf() if config.robot is None else config.robot.model
+        model = model_of(hand) if config.robot is None else config.robot.model
         self.articulation = load_articulation(self._scene, model, fix_root=True)
         for link in self.articulation.get_links():
             link.disable_gravity = True

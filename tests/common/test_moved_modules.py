@@ -83,3 +83,15 @@ def test_the_worked_plugin_example_imports_unchanged():
             imported = importlib.import_module(module)
             for name in names:
                 assert hasattr(imported, name), f"from {module} import {name}"
+
+
+def test_a_descriptions_urdf_method_still_reads_its_model_with_a_warning():
+    """A description is data (`model_file()`); its model is read by `model_of`."""
+    from graspframe.plugin_system.registry import default_registry
+    from graspframe.robot_models.model import model_of
+
+    registry = default_registry()
+    for description in (registry.get_hand("barrett"), registry.get_arm("kuka")):
+        with pytest.warns(DeprecationWarning, match=r"urdf\(\) is deprecated.*model_of"):
+            model = description.urdf()
+        assert model is model_of(description)

@@ -27,7 +27,7 @@ from graspframe.motion.collision import (
 )
 from graspframe.motion.ik import IkSolver
 from graspframe.plugin_system.registry import default_registry
-from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.model import CollisionModel, model_of
 from graspframe.robot_models.mounting import mount
 
 REGISTRY = default_registry()
@@ -222,10 +222,10 @@ def test_hand_alone_at_a_root_pose():
     # The Barrett URDF alone, root z up: its palm pad (84 mm up the root's z) at the can's
     # centroid, then the hand lifted 20 cm, clear of everything.
     T_world_hand = make_T(p=[*OBJECT_XY, CAN.half_height - 0.084])
-    inside = RobotCollisionChecker(HAND.urdf(), T_world_hand, obstacles())
+    inside = RobotCollisionChecker(model_of(HAND), T_world_hand, obstacles())
     assert "bh_palm_pad" in {c.robot_link for c in inside.collisions({}, obstacles=["object"])}
     T_world_hand[2, 3] += 0.20
-    lifted = RobotCollisionChecker(HAND.urdf(), T_world_hand, obstacles())
+    lifted = RobotCollisionChecker(model_of(HAND), T_world_hand, obstacles())
     assert lifted.collisions({}) == []
 
 
@@ -233,12 +233,12 @@ def test_margin_counts_clearance_not_only_contact():
     # The hand alone, root z up, its base cylinder's bottom face (the root plane) 3 mm
     # above the can's top face, coaxial: a 3 mm gap.
     T_world_hand = make_T(p=[*OBJECT_XY, TABLE_HEIGHT + 2 * CAN.half_height + 0.003])
-    close = RobotCollisionChecker(HAND.urdf(), T_world_hand, obstacles(), margin=0.005)
+    close = RobotCollisionChecker(model_of(HAND), T_world_hand, obstacles(), margin=0.005)
     found = close.collisions({})
     assert pairs(found) == [("bh_base", "object")]
     assert found[0].distance == pytest.approx(0.003, abs=1e-6)
     assert "3.0 mm from the object" in found[0].describe()
-    loose = RobotCollisionChecker(HAND.urdf(), T_world_hand, obstacles(), margin=0.002)
+    loose = RobotCollisionChecker(model_of(HAND), T_world_hand, obstacles(), margin=0.002)
     assert loose.collisions({}) == []
 
 

@@ -28,7 +28,7 @@ from graspframe.pictures import snapshots as snap
 from graspframe.pictures.robot_scene import RobotFigure
 from graspframe.pictures.snapshots import Snapshot, SnapshotScene, draw_snapshots
 from graspframe.plugin_system.registry import default_registry
-from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.model import CollisionModel, model_of
 from graspframe.robot_models.mounting import mount
 
 PALM_HEIGHT = 0.20  # [m] palm origin above the table (Barrett scene)
@@ -69,12 +69,12 @@ def sheet_width(n_columns: int) -> int:
 @pytest.fixture(scope="module")
 def barrett_scene() -> tuple[SnapshotScene, list[Snapshot]]:
     """Barrett alone: palm 20 cm above the table, a cylinder standing under it."""
-    model = CollisionModel(BARRETT.urdf())
+    model = CollisionModel(model_of(BARRETT))
     model.place(BARRETT.with_model_followers(hand_q(0, 10)))
     T_world_palm = make_T(R_WORLD_PALM_DOWN, [0.5, 0.1, PALM_HEIGHT])
     T_world_root = T_world_palm @ inv_T(model.T_root_frame(BARRETT.palm_frame))
     scene = SnapshotScene(
-        model=BARRETT.urdf(),
+        model=model_of(BARRETT),
         T_world_root=T_world_root,
         palm_frame=BARRETT.palm_frame,
         finger_of_link=BARRETT.finger_of_link(),

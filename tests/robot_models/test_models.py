@@ -22,6 +22,7 @@ from graspframe.robot_models.model import (
     CollisionModel,
     collision_geometry_model,
     load_pinocchio_model,
+    model_of,
     summarize_urdf,
 )
 from graspframe.robot_models.mounting import mount
@@ -52,8 +53,8 @@ def test_builtin_models_are_registered():
 @pytest.mark.parametrize(("kind", "name"), DESCRIPTIONS)
 def test_model_has_same_joints_and_limits_in_pinocchio_and_sapien(kind, name):
     description = REGISTRY.entry(kind, name).item
-    urdf = summarize_urdf(description.urdf())
-    sapien_limits = _sapien_limits(description.urdf())
+    urdf = summarize_urdf(model_of(description))
+    sapien_limits = _sapien_limits(model_of(description))
     assert sorted(sapien_limits) == sorted(urdf.joints)
     for joint_name, joint in urdf.joints.items():
         lower, upper = sapien_limits[joint_name]
@@ -71,7 +72,7 @@ def test_every_hand_mounts_on_every_arm(hand_name, arm_name):
     robot = mount(arm, hand, T_flange_hand)
 
     combined = summarize_urdf(robot.model)
-    alone = set(summarize_urdf(arm.urdf()).joints) | set(summarize_urdf(hand.urdf()).joints)
+    alone = set(summarize_urdf(model_of(arm)).joints) | set(summarize_urdf(model_of(hand)).joints)
     assert set(combined.joints) == alone
     assert sorted(_sapien_limits(robot.model)) == sorted(alone)
 
@@ -84,7 +85,7 @@ def test_every_hand_mounts_on_every_arm(hand_name, arm_name):
     pin.framesForwardKinematics(model, data, q)
     T_base_flange = data.oMf[model.getFrameId(arm.flange_link)].homogeneous
     T_base_palm = data.oMf[model.getFrameId(hand.palm_frame)].homogeneous
-    hand_alone = CollisionModel(hand.urdf())
+    hand_alone = CollisionModel(model_of(hand))
     T_hand_palm = hand_alone.T_root_frame(hand.palm_frame)
     np.testing.assert_allclose(T_base_palm, T_base_flange @ T_flange_hand @ T_hand_palm, atol=1e-9)
 
@@ -145,7 +146,7 @@ def test_open_preshape_is_within_limits_and_free_of_self_collision(hand_name, pr
     preshape = hand.preshapes[preshape_name]
     for joint_name, value in preshape.open_q.items():
         assert hand.joint(joint_name).contains(value), joint_name
-    model = CollisionModel(hand.urdf())
+    model = CollisionModel(model_of(hand))
     model.place(hand.with_model_followers(preshape.open_q))
     assert model.colliding_links() == []
 

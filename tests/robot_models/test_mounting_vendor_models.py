@@ -20,7 +20,7 @@ from graspframe.common.errors import DescriptionError
 from graspframe.common.grasps import HumanGrasp
 from graspframe.common.transforms import R_from_rpy, inv_T, make_T, rpy_from_R
 from graspframe.plugin_system.registry import default_registry
-from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.model import CollisionModel, model_of
 from graspframe.robot_models.mounting import MOUNT_OVERLAP_TOLERANCE, mount, mount_overlaps
 from graspframe.run.request import RunRequest
 from graspframe.run.runner import run_grasp
@@ -70,8 +70,8 @@ def test_a_hand_rooted_at_its_fingers_is_mounted_at_its_wrist(leap_hand_dir, tmp
     for mount_lines in ('mount_link = "base"\n', MOUNT_FRAME):
         rerooted = load_spec(_leap_spec(tmp_path, urdf, mount_lines))
         shipped_model, rerooted_model = (
-            CollisionModel(as_shipped.urdf()),
-            CollisionModel(rerooted.urdf()),
+            CollisionModel(model_of(as_shipped)),
+            CollisionModel(model_of(rerooted)),
         )
         T_shift = np.eye(4)
         if mount_lines != MOUNT_FRAME:  # the shipped spec mounts 10 mm below `base`
@@ -150,7 +150,7 @@ def test_the_jaco2_stands_on_its_base_and_carries_the_hand_along_link_6s_minus_z
     kinova_description_dir,
 ):
     arm = load_spec(JACO2_SPEC)
-    model = CollisionModel(arm.urdf())
+    model = CollisionModel(model_of(arm))
     # Rooted at Kinova's base frame, one fixed joint below the file's root.
     np.testing.assert_allclose(model.T_root_frame("j2s6s200_link_base"), np.eye(4), atol=1e-12)
     q = dict(zip(arm.joint_names, arm.home_q, strict=True))
@@ -158,7 +158,7 @@ def test_the_jaco2_stands_on_its_base_and_carries_the_hand_along_link_6s_minus_z
     T_link6, T_flange = model.T_root_frame("j2s6s200_link_6"), model.T_root_frame("jaco_flange")
     np.testing.assert_allclose(T_flange[:3, 2], -T_link6[:3, 2], atol=1e-6)
     # Kinova's tool frame approaches along its +x: the flange's +z.
-    ee = load_spec(JACO2_SPEC).urdf().link_names
+    ee = model_of(load_spec(JACO2_SPEC)).link_names
     assert "j2s6s200_end_effector" not in ee and "j2s6s200_link_finger_1" not in ee
     assert T_flange[2, 2] < -0.99  # home: the flange points down
     # The vendor's hand housing on link_6 is left out; the continuous joints are revolute.

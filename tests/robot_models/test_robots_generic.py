@@ -23,7 +23,7 @@ import pytest
 from graspframe.hal.descriptions import ArmDescription, HandDescription
 from graspframe.plugin_system.registry import Registry, default_registry
 from graspframe.robot_models.floating_base import floating_base
-from graspframe.robot_models.model import summarize_urdf
+from graspframe.robot_models.model import model_of, summarize_urdf
 
 ROOT = Path(__file__).parents[2]
 BUILT_IN_PACKAGE = "graspframe"
@@ -88,7 +88,7 @@ def test_generator_reproduces_the_shipped_urdf(name, tmp_path, monkeypatch):
 def test_sapien_loads_the_joints_limits_and_links_of_the_urdf(name):
     description = robot(name)
     _, articulation = sapien_articulation(description.model_path)
-    urdf = summarize_urdf(description.urdf())
+    urdf = summarize_urdf(model_of(description))
 
     names = [joint.name for joint in articulation.get_active_joints()]
     assert set(names) == set(urdf.joints)

@@ -17,7 +17,7 @@ from graspframe.common.grasps import HumanGrasp
 from graspframe.hal import ArmDescription, HandDescription
 from graspframe.plugin_system import hookimpl
 from graspframe.plugin_system.registry import Registry, default_registry
-from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.model import CollisionModel, model_of
 from graspframe.specs import load_spec
 from graspframe.testing import arm_problems, hand_problems, self_collision_problems
 
@@ -29,7 +29,7 @@ def test_the_leap_hand_spec_describes_the_vendor_hand(leap_hand_dir):
     assert len(hand.joints) == 16 and {j.max_velocity for j in hand.joints} == {2.0}
     assert {j.max_effort for j in hand.joints} == {0.95}  # from the URDF
     assert set(hand.grasp_map) == set(HumanGrasp)
-    assert {"leap_palm", "leap_palm_pad"} <= hand.urdf().link_names
+    assert {"leap_palm", "leap_palm_pad"} <= model_of(hand).link_names
     # No preshape states a delta: each comes from the fingertip frames, open preshape.
     assert all(0.05 < p.delta < 0.2 for p in hand.preshapes.values())
     assert hand_problems(hand) == []
@@ -45,7 +45,7 @@ def test_the_leap_hand_spec_opens_free_of_self_collision(leap_hand_dir):
 def test_the_leap_pinch_keeps_index_and_middle_apart_open_and_closed(leap_hand_dir):
     hand = load_spec(LEAP_HAND_SPEC)
     assert isinstance(hand, HandDescription)
-    model = CollisionModel(hand.urdf())
+    model = CollisionModel(model_of(hand))
     pinch = hand.preshapes["pinch"]
     for q in (pinch.open_q, pinch.closed_q):
         model.place(hand.with_model_followers(q))
@@ -64,7 +64,7 @@ def test_the_panda_spec_describes_the_vendor_arm(panda_description_dir):
     assert [j.max_acceleration for j in arm.joints] == [15.0, 7.5, 10.0, 12.5, 15.0, 20.0, 20.0]
     assert arm.joints[0].max_velocity == pytest.approx(2.175)  # from the URDF
     assert arm.home_q[3] == pytest.approx(math.radians(-135.0))
-    assert "panda_hand" not in arm.urdf().link_names  # the vendor's gripper is dropped
+    assert "panda_hand" not in model_of(arm).link_names  # the vendor's gripper is dropped
     assert arm_problems(arm) == []
 
 

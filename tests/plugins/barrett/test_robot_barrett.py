@@ -17,7 +17,7 @@ import pytest
 from graspframe_barrett.description import BARRETT, DISTAL, PROXIMAL, SPREAD, hand_q
 
 from graspframe.common.grasps import PALM, HumanGrasp, Preshape
-from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.model import CollisionModel, model_of
 from graspframe.testing import closing_problems
 
 MM = 1e-3
@@ -238,7 +238,7 @@ def test_palm_frame_pose(fk):
 
 
 def test_palm_frame_probes():
-    collision = CollisionModel(BARRETT.urdf())
+    collision = CollisionModel(model_of(BARRETT))
     T_base_palm = collision.T_root_frame(BARRETT.palm_frame)
     origin, z_axis = T_base_palm[:3, 3], T_base_palm[:3, 2]
     assert collision.links_containing(origin + 0.02 * z_axis) == []
@@ -249,7 +249,7 @@ def test_palm_frame_probes():
 
 
 def test_palm_pad_spans_the_published_area():
-    collision = CollisionModel(BARRETT.urdf())
+    collision = CollisionModel(model_of(BARRETT))
     T_base_palm = collision.T_root_frame(BARRETT.palm_frame)
     below = T_base_palm[:3, 3] - 1 * MM * T_base_palm[:3, 2]
     pad = BARRETT.palm_sensor_link
@@ -339,7 +339,7 @@ def test_precision_disc_spreads_to_about_120_degrees():
 
 
 def test_open_preshapes_are_free_of_self_collision():
-    collision = CollisionModel(BARRETT.urdf())
+    collision = CollisionModel(model_of(BARRETT))
     for q in (hand_q(0, 0), *(p.open_q for p in BARRETT.preshapes.values())):
         collision.place(BARRETT.with_model_followers(q))
         assert collision.colliding_links() == [], q

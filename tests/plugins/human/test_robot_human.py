@@ -37,7 +37,7 @@ from graspframe_human.description import (
 
 from graspframe.common.grasps import PALM, HumanGrasp
 from graspframe.model_files.urdf_model import read_model
-from graspframe.robot_models.model import CollisionModel, summarize_urdf
+from graspframe.robot_models.model import CollisionModel, model_of, summarize_urdf
 
 ROOT = Path(__file__).parents[3]
 MM = 1e-3
@@ -145,7 +145,7 @@ def _deg(q_deg):
 
 
 def test_joints_are_the_twenty_less_the_mimic_followers():
-    urdf = summarize_urdf(HAND.urdf())
+    urdf = summarize_urdf(model_of(HAND))
     assert len(urdf.joints) == 20
     dips = {f"hh_{f}_dip" for f in FINGERS}
     assert set(HAND.joint_names) == set(urdf.joints) - dips
@@ -156,7 +156,7 @@ def test_joints_are_the_twenty_less_the_mimic_followers():
 
 
 def test_every_link_is_in_exactly_one_real_finger():
-    links = summarize_urdf(HAND.urdf()).links
+    links = summarize_urdf(model_of(HAND)).links
     listed = [link for finger_links in HAND.real_fingers.values() for link in finger_links]
     assert sorted(listed) == sorted(links)
     assert set(HAND.real_fingers) == {*DIGITS, PALM}
@@ -211,7 +211,7 @@ def test_generator_scales_the_whole_hand_uniformly(kin, small_hand_urdf):
             small.T(frame.name).translation, scale * kin.T(frame.name).translation, atol=1e-6
         )
     # Same limits; mass (shapes of one density) scales with the volume.
-    shipped = summarize_urdf(HAND.urdf()).joints
+    shipped = summarize_urdf(model_of(HAND)).joints
     assert summarize_urdf(read_model(small_hand_urdf)).joints == shipped
 
     assert _shape_mass(small_hand_urdf) == pytest.approx(
@@ -305,7 +305,7 @@ def test_thumb_abduction_lifts_it_out_of_the_palm_and_turns_its_pad_to_the_finge
 
 
 def test_palm_frame_origin_lies_on_the_palmar_surface():
-    model = CollisionModel(HAND.urdf())
+    model = CollisionModel(model_of(HAND))
     T = model.T_root_frame(PALM_FRAME)
     origin, z = T[:3, 3], T[:3, 2]
     assert model.links_containing(origin + 20 * MM * z) == []  # 2 cm out: free space
@@ -316,7 +316,7 @@ def test_palm_frame_origin_lies_on_the_palmar_surface():
 
 
 def test_zero_pose_is_free_of_self_collision():
-    model = CollisionModel(HAND.urdf())
+    model = CollisionModel(model_of(HAND))
     model.place({})
     assert model.colliding_links() == []
 
@@ -379,7 +379,7 @@ def test_closing_a_posture_curls_every_digit_further(name):
 def test_postures_are_free_of_self_collision(name):
     # Open: the contract of every hand. Closed: reached in free space, so it must be too.
     posture = HAND.preshapes[name]
-    model = CollisionModel(HAND.urdf())
+    model = CollisionModel(model_of(HAND))
     for q in (posture.open_q, posture.closed_q):
         model.place(HAND.with_model_followers(q))
         assert model.colliding_links() == []

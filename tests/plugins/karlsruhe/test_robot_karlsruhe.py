@@ -31,7 +31,7 @@ from scipy.spatial.transform import Rotation
 
 from graspframe.checks.grasps import closing_gaps, closing_problems
 from graspframe.common.grasps import PALM, THUMB, HumanGrasp, Preshape
-from graspframe.robot_models.model import CollisionModel, summarize_urdf
+from graspframe.robot_models.model import CollisionModel, model_of, summarize_urdf
 
 MM = 1e-3
 DEG = math.pi / 180.0
@@ -150,7 +150,7 @@ def joint_axis(model, data, joint: str) -> np.ndarray:
 
 
 def test_eight_joints_all_0_to_90_deg_and_no_couplings():
-    urdf = summarize_urdf(HAND.urdf())
+    urdf = summarize_urdf(model_of(HAND))
     assert sorted(urdf.joints) == sorted(JOINT_NAMES)
     assert HAND.couplings == ()
     for joint in urdf.joints.values():
@@ -161,7 +161,7 @@ def test_eight_joints_all_0_to_90_deg_and_no_couplings():
 
 
 def test_model_and_fingertip_frames_are_links():
-    links = summarize_urdf(HAND.urdf()).links
+    links = summarize_urdf(model_of(HAND)).links
     assert {MODEL_FRAME, *FINGERTIP_FRAMES.values()} <= links
 
 
@@ -307,7 +307,7 @@ def test_closing_the_thumb_moves_it_onto_the_index_and_middle_fingers(fk):
     towards the fingers (+x in the model frame, never towards the wrist) and closes the
     gap to the index and the middle finger until they touch."""
     fingers_closed = {j: 90 * DEG for j in FINGER_JOINTS}
-    shapes = CollisionModel(HAND.urdf())
+    shapes = CollisionModel(model_of(HAND))
     xs, gaps = [], {"index": [], "middle": []}
     for t2 in range(0, 91, 10):
         q = {**fingers_closed, "kh_thumb_base": 90 * DEG, "kh_thumb_flex": t2 * DEG}
@@ -388,7 +388,7 @@ def test_root_frame_is_the_wrist_interface_with_z_along_the_fingers(fk):
     assert p_root_middle[2] > 0.15
     assert angle_between(p_root_middle, [0, 0, 1]) < 15 * DEG
     # The palm body starts at the mounting face z = 0, the wrist box centred on the origin.
-    shapes = CollisionModel(HAND.urdf())
+    shapes = CollisionModel(model_of(HAND))
     wrist_boxes = []
     for link, shape, T_root_shape in shapes.shapes():
         if link == ROOT_LINK and type(shape).__name__ == "Box":
@@ -405,7 +405,7 @@ def test_root_frame_is_the_wrist_interface_with_z_along_the_fingers(fk):
 def test_palm_frame_origin_is_on_the_palm_surface(preshape):
     """Open hand and the open volar preshapes: nothing in front of the palm centre, the
     pad face at it, the palm body behind it."""
-    shapes = CollisionModel(HAND.urdf())
+    shapes = CollisionModel(model_of(HAND))
     shapes.place({} if preshape is None else dict(HAND.preshape(preshape).open_q))
     T_root_palm = shapes.T_root_frame(PALM_FRAME)
 
@@ -423,7 +423,7 @@ def test_palm_surface_is_level_with_the_palmar_side_of_the_finger_bases(fk):
     (base joint + finger radius): objects on the palm meet the flexing fingers, the palm
     does not hold them off (it stood 16 mm proud in an earlier model)."""
     model, data = fk({})
-    shapes = CollisionModel(HAND.urdf())
+    shapes = CollisionModel(model_of(HAND))
     radius = {
         link: shape.radius for link, shape, _ in shapes.shapes() if type(shape).__name__ == "Sphere"
     }
@@ -442,7 +442,7 @@ def test_real_fingers():
 
 
 def test_fingers_close_without_hitting_each_other_or_the_palm():
-    shapes = CollisionModel(HAND.urdf())
+    shapes = CollisionModel(model_of(HAND))
     for angle in range(0, 91, 15):
         shapes.place({j: angle * DEG for j in FINGER_JOINTS})
         assert shapes.colliding_links() == [], angle
@@ -453,7 +453,7 @@ def test_the_thumb_stays_out_of_the_palm_while_a_preshape_closes(name):
     """Along each preshape's closing (open -> closed, linear), nothing collides with the
     palm body or pad (the fingertips may meet each other at the very end)."""
     preshape = HAND.preshapes[name]
-    shapes = CollisionModel(HAND.urdf())
+    shapes = CollisionModel(model_of(HAND))
     palm_links = set(HAND.real_fingers[PALM])
     for s in np.linspace(0.0, 1.0, 11):
         q = {j: (1 - s) * preshape.open_q[j] + s * preshape.closed_q[j] for j in JOINT_NAMES}
@@ -508,7 +508,7 @@ def test_design_object_sits_in_front_of_the_open_hand(name):
     preshape = HAND.preshapes[name]
     design = preshape.design_object
     assert design is not None
-    shapes = CollisionModel(HAND.urdf())
+    shapes = CollisionModel(model_of(HAND))
     shapes.place(dict(preshape.open_q))
     T_root_palm = shapes.T_root_frame(PALM_FRAME)
     if design.shape == "sphere":

@@ -15,7 +15,7 @@ from graspframe.common.grasps import PALM
 from graspframe.common.transforms import R_from_rpy, inv_T, make_T
 from graspframe.hal import ObjectDescription, WorldConfig
 from graspframe.plugin_system.registry import default_registry
-from graspframe.robot_models.model import CollisionModel
+from graspframe.robot_models.model import CollisionModel, model_of
 from graspframe.robot_models.mounting import mount
 
 REGISTRY = default_registry()
@@ -68,7 +68,7 @@ def test_palm_pressed_on_a_box_reports_a_palm_contact_with_the_true_normal(hand_
         WorldConfig(hand=hand, object=TALL_BOX, T_world_object=T_world_box)
     )
     # Centre the palm pad over the box, 1 cm above its top.
-    model = CollisionModel(hand.urdf())
+    model = CollisionModel(model_of(hand))
     T_palm_pad = inv_T(model.T_root_frame(hand.palm_frame)) @ model.T_root_frame(
         hand.palm_sensor_link
     )
@@ -90,7 +90,7 @@ def test_a_finger_touch_is_attributed_to_that_finger():
     """Barrett, palm down, fingers at zero flexion (lying flat, pointing away from the
     palm): a small block under finger 3's tip is touched by finger 3 only."""
     hand = REGISTRY.get_hand("barrett")
-    model = CollisionModel(hand.urdf())
+    model = CollisionModel(model_of(hand))
     T_palm_tip = inv_T(model.T_root_frame(hand.palm_frame)) @ model.T_root_frame("bh_f3_tip")
     T_world_palm = make_T(R_WORLD_PALM_DOWN, [0.0, 0.0, 0.0])
     p_world_tip = (T_world_palm @ T_palm_tip)[:3, 3]
