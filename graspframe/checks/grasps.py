@@ -203,10 +203,12 @@ def hand_alone_setup(
     grasp: HumanGrasp,
     obj: ObjectDescription | None = None,
     T_object_palm: NDArray[np.float64] | None = None,
+    xy: tuple[float, float] = (0.0, 0.0),
 ) -> HandAloneSetup:
     """Plan `grasp` for the hand alone on the floating base, on its design object (or
-    `obj`) standing on a table at z = 0; T_object_palm: the human palm on the object
-    (default: the preshape's design object where it lies in the palm)."""
+    `obj`) standing on a table at z = 0 at world (x, y) = `xy` [m]; T_object_palm: the
+    human palm on the object (default: the preshape's design object where it lies in the
+    palm)."""
     from graspframe.strategy.arm_path import floating_plan
     from graspframe.strategy.planner import PlanningTarget
 
@@ -216,7 +218,7 @@ def hand_alone_setup(
             raise ValueError(f"preshape {preshape.name!r} declares no design object")
         T_object_palm = _design_placement(preshape)
     obj = obj or design_object(preshape)
-    T_world_object = obj.T_world_standing()
+    T_world_object = obj.T_world_standing(xy)
     checked = floating_plan(PlanningTarget(grasp, T_object_palm, T_world_object, hand, obj))
     config = WorldConfig(
         hand=hand,

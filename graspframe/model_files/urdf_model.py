@@ -378,40 +378,31 @@ class ModelFile:
 
 
 def load_model_file(model_file: ModelFile) -> UrdfModel:
-    """The model `model_file` says, as every tool loads it (once per process for the
-    same file, unchanged on disk, and options)."""
+    """The model `model_file` says (`read_model`), as every tool loads it: once per
+    process for the same file, unchanged on disk, and options."""
     m = model_file
-    return description_model(
-        m.path, m.packages, m.frames, m.cut_below, m.prefix, m.root_at, m.root_role, m.tool_links
-    )
-
-
-def description_model(
-    path: Path,
-    packages: Mapping[str, Path],
-    frames: Mapping[str, FrameOffset],
-    cut_below: str | None = None,
-    prefix: str = "",
-    root_at: str | None = None,
-    root_role: str = "the root link",
-    tool_links: Collection[str] = (),
-) -> UrdfModel:
-    """`read_model`, once per process for the same file (unchanged on disk) and options."""
     key = (
-        _file_key(Path(path)),
-        tuple(sorted((k, str(v)) for k, v in packages.items())),
+        _file_key(Path(m.path)),
+        tuple(sorted((k, str(v)) for k, v in m.packages.items())),
         tuple(
             (name, f.parent, f.T_parent_frame.round(12).tobytes(), f.pad)
-            for name, f in sorted(frames.items())
+            for name, f in sorted(m.frames.items())
         ),
-        cut_below,
-        prefix,
-        root_at,
-        root_role,
-        tuple(tool_links),
+        m.cut_below,
+        m.prefix,
+        m.root_at,
+        m.root_role,
+        tuple(m.tool_links),
     )
     if key not in _MODELS:
         _MODELS[key] = read_model(
-            Path(path), packages, frames, cut_below, prefix, root_at, root_role, tool_links
+            Path(m.path),
+            m.packages,
+            m.frames,
+            m.cut_below,
+            m.prefix,
+            m.root_at,
+            m.root_role,
+            m.tool_links,
         )
     return _MODELS[key]

@@ -8,7 +8,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from graspframe.hal.descriptions import ArmDescription
-from graspframe.model_files.urdf_model import description_model
+from graspframe.model_files.urdf_model import ModelFile, load_model_file
 from graspframe.specs.model import read_drive, read_frames, read_joints, read_packages
 from graspframe.specs.reader import SpecReader
 
@@ -28,14 +28,16 @@ def read_arm(reader: SpecReader, data: Mapping[str, Any]) -> ArmDescription:
     tool_links = data.get("tool_links", [])
     if not isinstance(tool_links, list) or not all(isinstance(n, str) for n in tool_links):
         raise reader.fail("tool_links must be a list of link names")
-    model = description_model(
-        urdf,
-        packages,
-        frames,
-        cut_below,
-        root_at=base_link,
-        root_role="the base link",
-        tool_links=tuple(tool_links),
+    model = load_model_file(
+        ModelFile(
+            urdf,
+            packages,
+            frames,
+            cut_below,
+            root_at=base_link,
+            root_role="the base link",
+            tool_links=tuple(tool_links),
+        )
     )
     joints, couplings = read_joints(reader, data, model, need_motion_limits=True)
     if couplings:

@@ -18,7 +18,7 @@ from graspframe.hal.descriptions import (
     HandDescription,
     HandPreshape,
 )
-from graspframe.model_files.urdf_model import description_model
+from graspframe.model_files.urdf_model import ModelFile, load_model_file
 from graspframe.robot_models.model import model_of
 from graspframe.specs.model import read_drive, read_frames, read_joints, read_packages
 from graspframe.specs.mountings import read_mountings
@@ -175,8 +175,8 @@ def read_hand(reader: SpecReader, data: Mapping[str, Any]) -> HandDescription:
     urdf = reader.resolve(reader.text(data, "urdf", "the spec"), "urdf")
     packages, frames = read_packages(reader, data), read_frames(reader, data)
     mount_link = _mount_link(reader, data)
-    model = description_model(
-        urdf, packages, frames, root_at=mount_link, root_role="the mount link"
+    model = load_model_file(
+        ModelFile(urdf, packages, frames, root_at=mount_link, root_role="the mount link")
     )
     joints, couplings = read_joints(reader, data, model, need_motion_limits=False)
     couplings += _couplings(reader, data)

@@ -14,41 +14,25 @@ from __future__ import annotations
 
 import ast
 import re
+import sys
 from pathlib import Path
 
 import graspframe
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # tools/ is not installed
+from tools.layer_walk import picture_floors
+
 PACKAGE = Path(graspframe.__file__).parent
 PLUGINS = PACKAGE.parent / "plugins"
-ARCHITECTURE = Path(__file__).parents[2] / "docs" / "architecture.md"
 FORBIDDEN = ("sapien", "rerun")  # plugins only
 # The built-in plugins are the packages graspframe_<name>; graspframe_robots is not a
 # plugin but the model files of robots/, which the core reads.
 PLUGIN_PREFIX = "graspframe_"
 NOT_PLUGINS = ("graspframe_robots",)
-PICTURE_NAME_WIDTH = 14  # the picture's first column: the floor's name
 
 
-def _picture_floors() -> dict[str, set[str]]:
-    """The layer picture of docs/architecture.md, lowest floor first: floor name -> the
-    modules (`name.py`) and subpackages (`name/`) it lists."""
-    text = ARCHITECTURE.read_text().split("## Layers", 1)[1]
-    lines = text[text.index("┌") : text.index("└")].splitlines()[1:]
-    boxes: list[list[str]] = [[]]
-    for line in lines:
-        if "├" in line:
-            boxes.append([])
-        else:
-            boxes[-1].append(line.strip().strip("│").removeprefix(" "))
-    floors = {}
-    for box in reversed(boxes):
-        name = " ".join(row[:PICTURE_NAME_WIDTH].strip() for row in box).strip()
-        listing = " ".join(row[PICTURE_NAME_WIDTH:] for row in box)
-        floors[name] = set(re.findall(r"\b(\w+)(?:\.py\b|/)", listing))
-    return floors
-
-
-FLOORS = _picture_floors()
+# The floors of the layer picture (tools/layer_walk.py reads it, for the walk too).
+FLOORS = {name: set(parts) for name, parts in picture_floors().items()}
 RANK = {part: rank for rank, parts in enumerate(FLOORS.values()) for part in parts}
 
 

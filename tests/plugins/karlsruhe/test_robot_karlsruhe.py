@@ -580,32 +580,21 @@ def hand_alone_run(grasp: HumanGrasp, object_name: str | None = None):
     the human reference palm pose, the hand on the free base, the object on the table."""
     from graspframe_sapien.backend import SapienBackend
 
-    from graspframe.common.defaults import SCENE_OBJECT_XY, TABLE_HEIGHT
-    from graspframe.common.transforms import make_T
-    from graspframe.hal.drivers import WorldConfig
+    from graspframe.checks.grasps import hand_alone_setup
+    from graspframe.common.defaults import SCENE_OBJECT_XY
     from graspframe.motion.arm_motion import ArmMotion
     from graspframe.plugin_system.registry import default_registry
-    from graspframe.strategy.arm_path import floating_plan
     from graspframe.strategy.execution import run_policy
     from graspframe.strategy.held_check import HeldTest
     from graspframe.strategy.method import MethodStrategy
-    from graspframe.strategy.planner import PlanningTarget
     from graspframe.strategy.reference_poses import reference_placement
 
     registry = default_registry()
     obj = registry.get_object(object_name) if object_name else registry.default_object_for(grasp)
     placement = reference_placement(obj, registry.get_hand("human").preshape_for(grasp))
-    T_world_object = make_T(p=[*SCENE_OBJECT_XY, TABLE_HEIGHT + obj.half_height])
-    target = PlanningTarget(grasp, placement.T_object_palm, T_world_object, HAND, obj, TABLE_HEIGHT)
-    checked = floating_plan(target)
-    config = WorldConfig(
-        hand=HAND,
-        object=obj,
-        robot=checked.robot,
-        T_world_arm_base=checked.T_world_base,
-        T_world_object=T_world_object,
-    )
-    with SapienBackend().create_world(config) as world:
+    setup = hand_alone_setup(HAND, grasp, obj, placement.T_object_palm, xy=SCENE_OBJECT_XY)
+    checked = setup.checked
+    with SapienBackend().create_world(setup.config) as world:
         motion = ArmMotion(world, checked.robot, checked.T_world_base)
         return run_policy(world, motion, MethodStrategy(checked.plan, HAND, obj), obj, HeldTest())
 

@@ -19,19 +19,16 @@ from graspframe_sapien.backend import SapienBackend
 from graspframe_sapien.scene_objects import MAX_COOKING_CHANGE, cooking_change
 from graspframe_ycb.plugin import YCB_DIR_ENV, YCB_OBJECTS, ycb_objects
 
+from graspframe.checks.grasps import hand_alone_setup
 from graspframe.common.cache import CACHE_ENV
-from graspframe.common.defaults import SCENE_OBJECT_XY, TABLE_HEIGHT
-from graspframe.common.transforms import make_T
-from graspframe.hal import WorldConfig
+from graspframe.common.defaults import SCENE_OBJECT_XY
 from graspframe.model_files import mesh_geometry as mesh_geometry_module
 from graspframe.model_files.mesh_geometry import display_mesh
 from graspframe.motion.arm_motion import ArmMotion
 from graspframe.plugin_system.registry import Registry, default_registry
-from graspframe.strategy.arm_path import floating_plan
 from graspframe.strategy.execution import run_policy
 from graspframe.strategy.held_check import HeldTest
 from graspframe.strategy.method import MethodStrategy
-from graspframe.strategy.planner import PlanningTarget
 from graspframe.strategy.reference_poses import reference_placement
 
 YCB_DIR = Path(os.environ.get("GRASPFRAME_TEST_YCB_DIR", THIRD_PARTY / "objects" / "ycb"))
@@ -158,19 +155,10 @@ def _held(obj, hand_name: str):
     hand, human = REGISTRY.get_hand(hand_name), REGISTRY.get_hand("human")
     grasp = obj.documented_grasps()[0]
     placement = reference_placement(obj, human.preshape_for(grasp))
-    T_world_object = make_T(p=[*SCENE_OBJECT_XY, TABLE_HEIGHT + obj.half_height])
-    target = PlanningTarget(grasp, placement.T_object_palm, T_world_object, hand, obj, TABLE_HEIGHT)
-    checked = floating_plan(target)
-    config = WorldConfig(
-        hand=hand,
-        object=obj,
-        robot=checked.robot,
-        T_world_arm_base=checked.T_world_base,
-        T_world_object=T_world_object,
-        table_height=TABLE_HEIGHT,
-    )
-    with SapienBackend().create_world(config) as world:
-        motion = ArmMotion(world, checked.robot, config.T_world_arm_base)
+    setup = hand_alone_setup(hand, grasp, obj, placement.T_object_palm, xy=SCENE_OBJECT_XY)
+    checked = setup.checked
+    with SapienBackend().create_world(setup.config) as world:
+        motion = ArmMotion(world, checked.robot, checked.T_world_base)
         return run_policy(world, motion, MethodStrategy(checked.plan, hand, obj), obj, HeldTest())
 
 
