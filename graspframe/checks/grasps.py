@@ -34,7 +34,7 @@ from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.drivers import Backend, WorldConfig
 from graspframe.hal.objects import ObjectDescription
 from graspframe.robot_models.model import CollisionModel, model_of
-from graspframe.strategy.held_check import GRAVITY
+from graspframe.strategy.held_check import GRAVITY, HeldTest
 from graspframe.strategy.reference_poses import R_object_palm_for_design
 
 if TYPE_CHECKING:  # method.py imports the planner, which imports this package's users
@@ -237,18 +237,19 @@ def _hand_alone(
     obj: ObjectDescription | None = None,
     disturb: bool = True,
     T_object_palm: NDArray[np.float64] | None = None,
+    held: HeldTest | None = None,
 ) -> tuple[GraspOutcome, tuple[Moment, ...], CheckedPlan]:
     """(the outcome, its moments, the CheckedPlan on the floating base) of
     `hand_alone_grasp`; T_object_palm: the human palm on the object (default: the
-    preshape's design object where it lies in the palm)."""
+    preshape's design object where it lies in the palm); held: the held test (default:
+    graspframe's, with the pushes when `disturb`)."""
     from graspframe.strategy.execution import execute
-    from graspframe.strategy.held_check import HeldTest
     from graspframe.strategy.method import MethodStrategy
 
     setup = hand_alone_setup(hand, grasp, obj, T_object_palm)
     checked = setup.checked
     policy = MethodStrategy(checked.plan, hand, setup.obj, checked.executor_params)
-    execution = execute(backend, setup.config, policy, HeldTest(disturb=disturb))
+    execution = execute(backend, setup.config, policy, held or HeldTest(disturb=disturb))
     return execution.outcome, execution.moments, checked
 
 
@@ -291,6 +292,7 @@ def hold_trials(
     progress: Callable[[str], None] = lambda _message: None,
     keep_unplanned: bool = False,
     experiment: ExperimentObjects | None = None,
+    held: HeldTest | None = None,
 ) -> list[HoldTrial]:
     """One hand-alone grasp of its design object per preshape and volar/non-volar use of
     it (in the order of the grasp map), then, with `experiment`, one per human grasp on
@@ -299,6 +301,7 @@ def hold_trials(
 
     keep_unplanned: a grasp the planner finds no plan for is a trial that was not held
     (aborted, no moments, no plan) instead of the PlanningError it raises by default.
+    held: the held test of every trial (default: graspframe's).
     """
     from graspframe.strategy.planner import PlanningError
 
@@ -326,7 +329,7 @@ def hold_trials(
         progress(f"{preshape_name} ({grasp.value}): the hand alone on {on}")
         try:
             outcome, moments, checked = _hand_alone(
-                hand, grasp, backend, obj, T_object_palm=T_object_palm
+                hand, grasp, backend, obj, T_object_palm=T_object_palm, held=held
             )
         except PlanningError as exc:
             if not keep_unplanned:

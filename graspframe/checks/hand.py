@@ -62,6 +62,7 @@ from graspframe.common.grasps import HUMAN_HAND
 from graspframe.hal.descriptions import ArmDescription, HandDescription, HandPreshape, JointSpec
 from graspframe.hal.drivers import Backend
 from graspframe.robot_models.model import CollisionModel, model_of
+from graspframe.strategy.held_check import HeldTest, held_test_words
 
 
 @dataclass
@@ -215,17 +216,18 @@ def _hold_checks(
     pictures: Path | None,
     progress: Callable,
     experiment: ExperimentObjects | None,
+    held: HeldTest,
 ) -> list[CheckResult]:
     """The hold check on the design objects and, with `experiment`, the one on
-    experiment A's objects (every grasp each preshape serves)."""
+    experiment A's objects (every grasp each preshape serves), judged by `held`."""
     design = CheckResult(
         f"the hand alone holds each preshape's design object ({backend.name} physics: "
-        "approach, close, 5 cm lift, pushes of half its weight)"
+        f"approach, close, {held_test_words(held)})"
     )
     missing = [name for name, p in hand.preshapes.items() if p.design_object is None]
     design.problems += [f"preshape {name!r} declares no design object" for name in missing]
     trials = hold_trials(hand, backend, progress=progress, keep_unplanned=True,
-                         experiment=experiment)  # fmt: skip
+                         experiment=experiment, held=held)  # fmt: skip
     results = [design]
     if experiment is not None:
         results.append(
@@ -361,12 +363,14 @@ def check_hand_report(
     progress: Callable[[str], None] = lambda _message: None,
     arm: ArmDescription | None = None,
     experiment: ExperimentObjects | None = None,
+    held: HeldTest | None = None,
 ) -> tuple[bool, list[str]]:
     """(passed, lines to print) for one hand description; with a backend, the hand
     alone must also hold its design objects in it and, with `experiment`, experiment
     A's object for every human grasp (pictures of each trial go to the `pictures`
     folder when one is given); with an arm, its links must clear the arm's once
-    mounted."""
+    mounted. held: the held test of the hold checks (default: graspframe's)."""
+    held = held or HeldTest()
     checks = [_description_check(hand)]
     robot_hand = hand.name != HUMAN_HAND
     if robot_hand and pictures is not None and not checks[0].passed:
@@ -387,7 +391,7 @@ def check_hand_report(
     if backend is None:
         checks += [CheckResult(name, skipped="--no-hold") for name in holds]
     elif robot_hand and checks[1].passed:
-        checks += _hold_checks(hand, backend, pictures, progress, experiment)
+        checks += _hold_checks(hand, backend, pictures, progress, experiment, held)
     else:
         skipped = reason if not robot_hand or not checks[0].passed else "closing failed"
         checks += [CheckResult(name, skipped=skipped) for name in holds]

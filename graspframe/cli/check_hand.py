@@ -26,6 +26,7 @@ def check_hand_command(
     backend: str = DEFAULT_BACKEND,
     pictures: Path | None = None,
     arm: str | None = None,
+    held_test: str = "graspframe",
 ) -> int:
     """Check the hand `name` (registered, or a spec file); print the result; 0 if it
     passed, else 1.
@@ -36,7 +37,11 @@ def check_hand_command(
     object for every human grasp, in `backend`.
     pictures: folder for the pictures of the hold trials (default runs/check-hand/NAME).
     arm: check that the hand's links clear this arm's once mounted (None: no arm).
+    held_test: the held test of the hold checks, "graspframe" or "benchmark".
     """
+    from graspframe.strategy.held_check import held_test_named
+
+    held = held_test_named(held_test)
     registry = registry or registry_module.default_registry()
     hand = registry.get_hand(name)
     physics = registry.get_backend(backend)() if hold else None
@@ -52,7 +57,9 @@ def check_hand_command(
         typer.echo(f"· {message}", err=True)
 
     folder = pictures or Path("runs") / "check-hand" / hand.name
-    passed, lines = check_hand_report(hand, physics, folder, progress, arm_description, experiment)
+    passed, lines = check_hand_report(
+        hand, physics, folder, progress, arm_description, experiment, held
+    )
     for line in lines:
         typer.echo(line)
     return 0 if passed else 1

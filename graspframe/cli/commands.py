@@ -120,6 +120,10 @@ def _parse_error_mm(text: str) -> tuple[float, float]:
 
 STRATEGY_HELP = "method (the published strategy) or servo (corrected by a depth camera)."
 NOISE_HELP = "Multiple of the servo camera's noise model (2: doubled)."
+HELD_TEST_HELP = (
+    "graspframe (lift, then pushes of a fraction of the weight) or benchmark (the field's "
+    "convention: gravity off, the weight along +-x, +-y, +-z for 2 s, 5 cm / 15 deg)."
+)
 
 
 @app.command()
@@ -168,6 +172,7 @@ def run(
         float,
         typer.Option(help="Push of the held test, a fraction of the object's weight."),
     ] = DISTURBANCE_FRACTION,
+    held_test: Annotated[str, typer.Option(help=HELD_TEST_HELP)] = "graspframe",
     strategy: Annotated[str, typer.Option(help=STRATEGY_HELP)] = STRATEGY_METHOD,
     camera_noise: Annotated[float, typer.Option(help=NOISE_HELP)] = 1.0,
 ) -> None:
@@ -197,6 +202,7 @@ def run(
         mount=Mount.parse(mount),
         lift_height=lift_height_mm / 1000.0,
         disturbance_fraction=disturbance_fraction,
+        held_test_name=held_test,
         strategy=Strategy.parse(strategy),
         camera_noise=camera_noise,
     )
@@ -290,6 +296,7 @@ def evaluate(
     ] = "",
     strategy: Annotated[str, typer.Option(help="Comma-separated: " + STRATEGY_HELP)] = "method",
     camera_noise: Annotated[float, typer.Option(help=NOISE_HELP)] = 1.0,
+    held_test: Annotated[str, typer.Option(help=HELD_TEST_HELP)] = "graspframe",
 ) -> None:
     """Experiments A (perfect perception) and B (object position error) for the hands."""
     from graspframe.cli.evaluate import run_evaluation, sweep_config
@@ -312,6 +319,7 @@ def evaluate(
         objects=objects,
         strategy=Strategy.parse(strategy),
         camera_noise=camera_noise,
+        held_test=held_test,
     )
     run_evaluation(config, console, err_console)
 
@@ -353,12 +361,15 @@ def check_hand(
             "spec file (*.toml), or 'none'."
         ),
     ] = DEFAULT_ARM,
+    held_test: Annotated[str, typer.Option(help=HELD_TEST_HELP)] = "graspframe",
 ) -> None:
     """Check a hand plugin against the contract and say, in plain words, what is wrong."""
     from graspframe.cli.check_hand import check_hand_command
 
     on_arm = None if arm.strip().lower() == "none" else arm
-    code = check_hand_command(name, hold=hold, backend=backend, pictures=pictures, arm=on_arm)
+    code = check_hand_command(
+        name, hold=hold, backend=backend, pictures=pictures, arm=on_arm, held_test=held_test
+    )
     raise typer.Exit(code)
 
 

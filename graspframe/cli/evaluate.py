@@ -72,12 +72,15 @@ def sweep_config(
     objects: str,
     strategy: str = STRATEGY_METHOD,
     camera_noise: float = 1.0,
+    held_test: str = "graspframe",
 ) -> SweepConfig:
     """The sweep the options ask for (their text as given on the command line, rho_mm
     [mm], time_limit [s]); an unknown name or a bad value fails before any trial."""
     from graspframe.common.grasps import HumanGrasp
     from graspframe.plugin_system.registry import default_registry
+    from graspframe.strategy.held_check import held_test_named
 
+    held_test_named(held_test)  # an unknown held test fails before any trial
     registry = default_registry()
     registry.get_arm(arm)  # an unknown arm or a spec that does not load fails before any trial
     object_names = names_option(objects, "object", registry.names("object")) if objects else ()
@@ -113,6 +116,7 @@ def sweep_config(
         objects=object_names,
         strategies=names_option(strategy, "strategy", list(STRATEGIES)),
         camera_noise=camera_noise,
+        held_test=held_test,
     )
 
 
@@ -121,7 +125,7 @@ def run_evaluation(config: SweepConfig, console: Console, err_console: Console) 
     the summary table and where the files are on `console`."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
 
-    from graspframe.experiments.summary import plot_summary, summarize, write_tables
+    from graspframe.experiments.summary import plot_summary, summarize, table_note, write_tables
     from graspframe.experiments.sweep import plan_trials, run_sweep
 
     out = Path(config.out_dir)
@@ -142,15 +146,16 @@ def run_evaluation(config: SweepConfig, console: Console, err_console: Console) 
         rows = run_sweep(config, on_trial=on_trial)
         progress.update(task, completed=len(rows))
     summary = summarize(rows)
-    csv_path, md_path = write_tables(summary, out)
+    note = table_note(config.held_test)
+    csv_path, md_path = write_tables(summary, out, note)
     figure = plot_summary(summary, out / "summary.png")
-    print_summary(summary, console)
+    print_summary(summary, console, note)
     console.print(
         f"trials: {out / 'trials.jsonl'}\nsummary: {csv_path}, {md_path}\nfigure: {figure}"
     )
 
 
-def print_summary(summary: list[SummaryRow], console: Console) -> None:
+def print_summary(summary: list[SummaryRow], console: Console, note: str | None = None) -> None:
     """The summary as terminal tables, one per experiment (summary.md has them in one
     markdown table), then the note that explains them."""
     from rich import box
@@ -173,4 +178,4 @@ def print_summary(summary: list[SummaryRow], console: Console) -> None:
         # Wider than the console: printed whole (a terminal wraps the lines; a file or
         # a pipe keeps them), not cut at its edge.
         console.print(table, crop=False)
-    console.print(TABLE_NOTE, markup=False, highlight=False)
+    console.print(note or TABLE_NOTE, markup=False, highlight=False)

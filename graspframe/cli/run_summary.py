@@ -55,7 +55,7 @@ def print_run_summary(result: RunResult, console: Console) -> None:
             f"corrections: {outcome.corrections}   palm contact: {outcome.palm_contact}   "
             f"held after a {1000 * outcome.lift_height:.0f} mm lift: {outcome.held_after_lift} "
             f"(object rose {round(1000 * outcome.object_rise)} mm)   "
-            f"held under disturbance: {disturbance}"
+            f"held under disturbance: {disturbance}   held test: {outcome.verdict.held_test}"
         )
         per_finger: dict[str, int] = {}
         for contact in outcome.contacts:

@@ -49,7 +49,8 @@ class SweepConfig:
     objects: object names to run instead of the grasps' default objects, each with the
     grasps documented for it (`ObjectDescription.documented_grasps`; `grasps` must then
     be empty, and sizes too); strategies: "method" and/or "servo", each running every
-    trial; camera_noise: the multiple of the servo camera's noise model."""
+    trial; camera_noise: the multiple of the servo camera's noise model; held_test: the
+    held test of every trial ("graspframe" or "benchmark")."""
 
     hands: tuple[str, ...]
     grasps: tuple[str, ...]
@@ -68,6 +69,7 @@ class SweepConfig:
     objects: tuple[str, ...] = ()
     strategies: tuple[str, ...] = (STRATEGY_METHOD,)
     camera_noise: float = 1.0
+    held_test: str = "graspframe"
 
     def __post_init__(self) -> None:
         if self.executor not in EXECUTORS:
@@ -118,6 +120,7 @@ def plan_trials(config: SweepConfig) -> list[TrialSpec]:
                     mount=mount,
                     strategy=strategy,
                     camera_noise=config.camera_noise,
+                    held_test=config.held_test,
                 )
                 for condition, error in conditions:
                     specs.append(TrialSpec(hand, grasp, condition, error, **common))
@@ -165,6 +168,7 @@ def _object_trials(
             object=name,
             strategy=strategy,
             camera_noise=config.camera_noise,
+            held_test=config.held_test,
         )
         for mount in config.mounts
         for strategy in config.strategies

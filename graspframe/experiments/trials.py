@@ -19,6 +19,7 @@ from typing import Any
 
 from graspframe.common.defaults import DEFAULT_ARM, MOUNT_ARM, STRATEGY_METHOD, Mount, Strategy
 from graspframe.common.grasps import HumanGrasp
+from graspframe.strategy.held_check import HELD_TEST_GRASPFRAME
 
 CONDITION_A = "A"
 TRIAL_TIME_LIMIT = 300.0  # [s] wall time before a trial is killed and recorded as failed
@@ -33,7 +34,8 @@ class TrialSpec:
     "B<k>" it is part of the trial id: a sweep over objects); mount: "arm" or
     "floating"; record: write a rerun recording of the trial (off by default: sweeps are
     for numbers); strategy: "method" or "servo" (part of the trial id when not the
-    method's, with camera_noise, the multiple of the camera's noise, when not 1)."""
+    method's, with camera_noise, the multiple of the camera's noise, when not 1);
+    held_test: "graspframe" or "benchmark" (part of the trial id when not graspframe's)."""
 
     hand: str
     grasp: str
@@ -47,16 +49,19 @@ class TrialSpec:
     object: str | None = None
     strategy: str = STRATEGY_METHOD
     camera_noise: float = 1.0
+    held_test: str = HELD_TEST_GRASPFRAME
 
     @property
     def trial_id(self) -> str:
         base = f"{self.mount}/{self.hand}/{self.grasp}/{self.condition}"
         chosen = swept_object(self.condition, self.object)
         base = base if chosen is None else f"{base}/{chosen}"
-        if self.strategy == STRATEGY_METHOD:
-            return base
-        noise = "" if self.camera_noise == 1.0 else f"-noise{self.camera_noise:g}"
-        return f"{base}/{self.strategy}{noise}"
+        if self.strategy != STRATEGY_METHOD:
+            noise = "" if self.camera_noise == 1.0 else f"-noise{self.camera_noise:g}"
+            base = f"{base}/{self.strategy}{noise}"
+        if self.held_test != HELD_TEST_GRASPFRAME:
+            base = f"{base}/{self.held_test}-held"
+        return base
 
 
 def swept_object(condition: str, object_name: str | None) -> str | None:
@@ -134,6 +139,8 @@ class TrialRow:
     def to_json(self) -> dict[str, Any]:
         """The trials.jsonl line's values."""
         data: dict[str, Any] = {"trial_id": self.trial_id, **asdict(self.spec)}
+        if data["held_test"] == HELD_TEST_GRASPFRAME:
+            del data["held_test"]  # the lines of graspframe's held test read as they always have
         data["status"] = self.status
         if self.ok:
             for name in _NUMBERS:
@@ -187,6 +194,7 @@ def run_trial(spec: TrialSpec) -> TrialRow:
         record=spec.record,
         strategy=Strategy.parse(spec.strategy),
         camera_noise=spec.camera_noise,
+        held_test_name=spec.held_test,
     )
     try:
         result = run_grasp(request)

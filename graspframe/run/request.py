@@ -35,7 +35,7 @@ from graspframe.hal.objects import ObjectDescription
 from graspframe.plugin_system.registry import Registry
 from graspframe.robot_models.model import model_of
 from graspframe.run.scene import Scene, check_on_table, load_scene
-from graspframe.strategy.held_check import HeldTest
+from graspframe.strategy.held_check import HELD_TEST_GRASPFRAME, HeldTest, held_test_named
 
 if TYPE_CHECKING:
     # The human reference's simulation and pictures load after the names are looked up.
@@ -57,6 +57,9 @@ class RunRequest:
         simulated human reference. record: stream a rerun recording of the run.
     mount: "arm" (the hand on `arm`) or "floating" (the hand alone on a free 6-DOF
         base, as in the method's grasp simulator).
+    lift_height [m], disturbance_fraction, held_test_name: the held test
+        (strategy/held_check.py's HELD_TESTS: "graspframe", or "benchmark", the field's
+        convention, gravity off).
     strategy: "method" (the published strategy) or "servo" (its non-volar grasps
         corrected by the depth camera `camera`, its noise model multiplied by
         `camera_noise`).
@@ -78,6 +81,7 @@ class RunRequest:
     mount: Mount = MOUNT_ARM
     lift_height: float = LIFT_HEIGHT
     disturbance_fraction: float = DISTURBANCE_FRACTION
+    held_test_name: str = HELD_TEST_GRASPFRAME
     strategy: Strategy = STRATEGY_METHOD
     camera: str = DEFAULT_CAMERA
     camera_noise: float = 1.0
@@ -109,6 +113,8 @@ class RunRequest:
             parts += ["--lift-height-mm", f"{1000.0 * self.lift_height:g}"]
         if self.disturbance_fraction != DISTURBANCE_FRACTION:
             parts += ["--disturbance-fraction", f"{self.disturbance_fraction:g}"]
+        if self.held_test_name != HELD_TEST_GRASPFRAME:
+            parts += ["--held-test", self.held_test_name]
         if self.strategy != STRATEGY_METHOD:
             parts += ["--strategy", self.strategy]
         if self.camera_noise != 1.0:
@@ -127,9 +133,7 @@ class RunRequest:
                 f"disturbance fraction {self.disturbance_fraction:g} is outside [0, "
                 f"{MAX_DISTURBANCE_FRACTION:g}] (a fraction of the object's weight)"
             )
-        return HeldTest(
-            lift_height=self.lift_height, disturbance_fraction=self.disturbance_fraction
-        )
+        return held_test_named(self.held_test_name, self.lift_height, self.disturbance_fraction)
 
 
 def demo_paths() -> tuple[Path, Path]:

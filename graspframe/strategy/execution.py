@@ -112,8 +112,8 @@ class GraspPolicy(Protocol):
 class GraspOutcome:
     """What happened: contacts at the hold (world frame), the object's pose then, how the
     policy got there, and the held test's verdict (None when the grasp was aborted:
-    `aborted` says why, and lift_height_requested [m] is the lift the test would have
-    made)."""
+    `aborted` says why, and lift_height_requested [m] and held_test_requested are the
+    lift and the test that would have judged it)."""
 
     contacts: list[Contact]
     T_world_object_at_hold: NDArray[np.float64]
@@ -121,6 +121,7 @@ class GraspOutcome:
     held: HeldVerdict | None
     aborted: str | None = None
     lift_height_requested: float = held_check.LIFT_HEIGHT
+    held_test_requested: str = held_check.HELD_TEST_GRASPFRAME
 
     @property
     def verdict(self) -> HeldVerdict:
@@ -128,7 +129,13 @@ class GraspOutcome:
         not run (not held, nothing measured, the requested lift height)."""
         if self.held is not None:
             return self.held
-        return HeldVerdict(False, None, None, lift_height=self.lift_height_requested)
+        return HeldVerdict(
+            False,
+            None,
+            None,
+            lift_height=self.lift_height_requested,
+            held_test=self.held_test_requested,
+        )
 
     @property
     def touching_fingers(self) -> list[str]:
@@ -296,6 +303,7 @@ def run_policy(
             held=None,
             aborted=f"the arm cannot carry out the plan: {exc}",
             lift_height_requested=held.lift_height,
+            held_test_requested=held.name,
         )
     contacts = world.hand.contacts()
     T_world_object_at_hold = probe.T_world_object()

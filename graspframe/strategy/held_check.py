@@ -11,6 +11,14 @@ other), it stays within the same bounds of its pose in the hand after the lift.
 LIFT_HEIGHT and DISTURBANCE_FRACTION, the only place each is written) and runs the test
 on the grasp in a world; `HeldVerdict` is what it found. A run passes one `HeldTest` to
 the robot's execution and to the human reference, so both are judged alike.
+
+Two tests are named (`held_test_named`): "graspframe", the test above (the default), and
+"benchmark", the convention of the field's grasp benchmarks (DexGraspBench, Dexonomy):
+gravity off (the object's weight cancelled by an equal upward force on its centroid), a
+force equal to its weight along each of +x, -x, +y, -y, +z, -z for 2 s, failure past
+5 cm or 15 deg of object motion in the hand. The benchmarks hold the object in free
+space; here it stands on the table at the hold, so the hand first lifts it (gravity
+off) clear of the table, and the lift must bring it along.
 """
 
 from __future__ import annotations
@@ -25,7 +33,7 @@ from numpy.typing import NDArray
 
 from graspframe.common.contacts import Contact
 from graspframe.common.defaults import DISTURBANCE_FRACTION, LIFT_HEIGHT
-from graspframe.common.errors import GraspframeError
+from graspframe.common.errors import GraspframeError, InputError
 from graspframe.common.transforms import inv_T, rotation_angle
 from graspframe.hal.drivers import ObjectProbe, World
 from graspframe.hal.objects import ObjectDescription
@@ -42,6 +50,14 @@ MAX_TURN_IN_HAND_DEG = 15.0  # [deg] largest rotation of the object in the palm 
 DISTURBANCE_TIME = 0.5  # [s] per direction
 SAMPLE_PERIOD = 0.02  # [s] how often the object's pose in the hand is sampled
 GRAVITY = 9.81  # [m/s^2] the simulated worlds' (an object's weight)
+# The benchmark convention's criteria (DexGraspBench; Dexonomy).
+BENCHMARK_MAX_SHIFT = 0.05  # [m]
+BENCHMARK_MAX_TURN_DEG = 15.0  # [deg]
+BENCHMARK_FORCE_FRACTION = 1.0  # of the object's weight
+BENCHMARK_PUSH_TIME = 2.0  # [s] per direction
+HELD_TEST_GRASPFRAME = "graspframe"
+HELD_TEST_BENCHMARK = "benchmark"
+HELD_TESTS = (HELD_TEST_GRASPFRAME, HELD_TEST_BENCHMARK)
 DISTURBANCE_DIRECTIONS = {
     "+x": (1.0, 0.0, 0.0),
     "-x": (-1.0, 0.0, 0.0),
@@ -122,6 +138,7 @@ class HeldVerdict:
     disturbance: Mapping[str, InHandMotion] = field(default_factory=dict)
     disturbance_skipped: str | None = None
     fingers_after_lift: tuple[str, ...] = ()
+    held_test: str = HELD_TEST_GRASPFRAME  # which test judged: a name of HELD_TESTS
 
     @property
     def held(self) -> bool:
@@ -132,6 +149,7 @@ class HeldVerdict:
         whether it held, and why not, without the measurements."""
         return {
             "held": self.held,
+            "held_test": self.held_test,
             "held_after_lift": self.after_lift,
             "held_under_disturbance": self.under_disturbance,
             "failure": self.failure,
@@ -154,6 +172,7 @@ class HeldVerdict:
                 d: InHandMotion(float(m["shift"]), float(m["turn_deg"])) for d, m in pushes.items()
             },
             disturbance_skipped=data["disturbance_skipped"],
+            held_test=str(data.get("held_test", HELD_TEST_GRASPFRAME)),
         )
 
 
@@ -166,6 +185,9 @@ class HeldTest:
     """The held test's criteria (see the module docstring) and its procedure.
 
     disturb: push the object after a lift that held (False: the lift alone judges).
+    gravity: False cancels the object's weight with an equal upward force on its
+        centroid for the whole test (the benchmark convention).
+    name: which test this is, a name of HELD_TESTS (the verdict carries it).
     """
 
     lift_height: float = LIFT_HEIGHT
@@ -177,6 +199,8 @@ class HeldTest:
     disturbance_fraction: float = DISTURBANCE_FRACTION
     disturbance_time: float = DISTURBANCE_TIME
     disturb: bool = True
+    gravity: bool = True
+    name: str = HELD_TEST_GRASPFRAME
 
     def within_bounds(self, motion: InHandMotion) -> bool:
         return motion.shift <= self.max_shift_in_hand and motion.turn_deg <= (
@@ -196,11 +220,18 @@ class HeldTest:
             self.disturbance_time,
             tuple(DISTURBANCE_DIRECTIONS),
             self.disturb,
+            *(() if self.gravity else ("gravity off",)),
         )
 
     def disturbance_force(self, obj: ObjectDescription) -> float:
         """[N] the push of the disturbance test on `obj`."""
         return self.disturbance_fraction * obj.mass * GRAVITY
+
+    def weight_cancelled(self, obj: ObjectDescription) -> NDArray[np.float64]:
+        """[N] the standing force on `obj` throughout the test: its weight upwards when
+        gravity is off, nothing otherwise."""
+        up = 0.0 if self.gravity else obj.mass * GRAVITY
+        return np.array([0.0, 0.0, up])
 
     # -- the procedure ------------------------------------------------------------------
 
@@ -213,7 +244,29 @@ class HeldTest:
     ) -> HeldVerdict:
         """The whole held test on the grasp now in `world`: the lift, then (when it held,
         the pushes are asked for and the backend can push) the pushes. `after_lift` hears
-        of the lift before the pushes start."""
+        of the lift before the pushes start. With gravity off the object's weight is
+        cancelled from the start of the lift to the verdict."""
+        if not self.gravity:
+            try:
+                object_probe(world).apply_force(self.weight_cancelled(obj))
+            except NotImplementedError as exc:
+                raise GraspframeError(
+                    f"the {self.name} held test turns gravity off, which needs a backend "
+                    f"that can push the object ({exc})"
+                ) from None
+        try:
+            return self._judged(world, motion, obj, after_lift)
+        finally:
+            if not self.gravity:
+                object_probe(world).apply_force(None)
+
+    def _judged(
+        self,
+        world: World,
+        motion: ArmMotion,
+        obj: ObjectDescription,
+        after_lift: Callable[[LiftResult], None],
+    ) -> HeldVerdict:
         lifted = self.lift(world, motion)
         after_lift(lifted)
         lifted_verdict = HeldVerdict(
@@ -224,6 +277,7 @@ class HeldTest:
             lift_height=self.lift_height,
             lift_motion=lifted.motion,
             fingers_after_lift=tuple(sorted({c.real_finger for c in lifted.contacts})),
+            held_test=self.name,
         )
         if not lifted.held:
             failure = self.lift_failure(lifted.object_rise, lifted.motion)
@@ -279,13 +333,14 @@ class HeldTest:
         checks = max(1, round(self.disturbance_time / (check_every * world.timestep)))
         probe = object_probe(world)
         motion_by_direction: dict[str, InHandMotion] = {}
+        standing = self.weight_cancelled(obj)
         for label, direction in DISTURBANCE_DIRECTIONS.items():
-            probe.apply_force(force * np.asarray(direction))
+            probe.apply_force(standing + force * np.asarray(direction))
             samples = []
             for _ in range(checks):
                 motion.idle(check_every)
                 samples.append(T_palm_object(world))
-            probe.apply_force(None)
+            probe.apply_force(standing if not self.gravity else None)
             motion_by_direction[label] = in_hand_motion(T_palm_object_ref, samples)
         return motion_by_direction
 
@@ -317,8 +372,48 @@ class HeldTest:
         direction, motion = slip
         return (
             f"the object slipped under the disturbance: pushed along {direction} with "
-            f"{100 * self.disturbance_fraction:.0f} % of its weight it moved "
+            f"{100 * self.disturbance_fraction:.0f} % of its weight"
+            f"{'' if self.gravity else ' (gravity off)'} it moved "
             f"{motion.describe()} in the hand "
             f"(allowed {1000 * self.max_shift_in_hand:.0f} mm, "
             f"{self.max_turn_in_hand_deg:.0f} deg)"
         )
+
+
+def held_test_words(held: HeldTest) -> str:
+    """The test in a few words, e.g. "5 cm lift, pushes of 50 % of its weight"."""
+    gravity = "" if held.gravity else ", gravity off"
+    return (
+        f"{held.lift_height * 100:g} cm lift, pushes of {held.disturbance_fraction * 100:.0f} % "
+        f"of its weight for {held.disturbance_time:g} s each{gravity} "
+        f"({held.name} held test: within {held.max_shift_in_hand * 1000:.0f} mm and "
+        f"{held.max_turn_in_hand_deg:g} deg)"
+    )
+
+
+def held_test_named(
+    name: str,
+    lift_height: float = LIFT_HEIGHT,
+    disturbance_fraction: float = DISTURBANCE_FRACTION,
+) -> HeldTest:
+    """The held test called `name` (HELD_TESTS): "graspframe" with the given lift and push,
+    or "benchmark", the field's convention (its push is the object's weight: a
+    `disturbance_fraction` other than the default is refused)."""
+    if name == HELD_TEST_GRASPFRAME:
+        return HeldTest(lift_height=lift_height, disturbance_fraction=disturbance_fraction)
+    if name == HELD_TEST_BENCHMARK:
+        if disturbance_fraction != DISTURBANCE_FRACTION:
+            raise InputError(
+                "the benchmark held test pushes with the object's whole weight; "
+                "drop the disturbance fraction or use the graspframe held test"
+            )
+        return HeldTest(
+            lift_height=lift_height,
+            max_shift_in_hand=BENCHMARK_MAX_SHIFT,
+            max_turn_in_hand_deg=BENCHMARK_MAX_TURN_DEG,
+            disturbance_fraction=BENCHMARK_FORCE_FRACTION,
+            disturbance_time=BENCHMARK_PUSH_TIME,
+            gravity=False,
+            name=HELD_TEST_BENCHMARK,
+        )
+    raise InputError(f"unknown held test {name!r}; held tests: {', '.join(HELD_TESTS)}")

@@ -192,6 +192,7 @@ def test_a_run_says_when_its_human_reference_does_not_hold(tmp_path, monkeypatch
     saved = json.loads(next(tmp_path.glob("*/result.json")).read_text())
     assert saved["score"]["human_held_test"] == {
         "held": False,
+        "held_test": "graspframe",
         "held_after_lift": False,
         "held_under_disturbance": None,
         "failure": failure,
