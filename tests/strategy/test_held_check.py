@@ -108,3 +108,73 @@ def test_an_aborted_grasp_reports_the_lift_height_asked_for():
     assert outcome.lift_height == 0.03
     assert outcome_json(outcome)["lift_height"] == 0.03
     assert outcome_json(outcome)["held_after_lift"] is False
+
+
+def test_the_benchmark_held_test_judges_robot_and_human_with_gravity_off(tmp_path, monkeypatch):
+    """--held-test benchmark: the weight cancelled from the lift on, each push the whole
+    weight for 2 s, the bounds 5 cm and 15 deg; result.json names the test, for the
+    robot and the human reference alike."""
+    from graspframe_sapien.drivers import SapienObjectProbe
+
+    monkeypatch.setenv("GRASPFRAME_CACHE_DIR", str(tmp_path / "cache"))  # a fresh reference
+    forces: list[object] = []
+    original = SapienObjectProbe.apply_force
+
+    def spy(self, f_world):
+        forces.append(None if f_world is None else np.asarray(f_world, dtype=float))
+        return original(self, f_world)
+
+    monkeypatch.setattr(SapienObjectProbe, "apply_force", spy)
+    request = RunRequest(
+        hand="barrett",
+        grasp=HumanGrasp.PINCH,
+        mount="floating",
+        out_root=str(tmp_path / "runs"),
+        record=False,
+        held_test_name="benchmark",
+    )
+    result = run_grasp(request, default_registry()).to_json()
+    outcome = result["outcome"]
+    assert outcome["held_test"] == "benchmark"
+    assert result["score"]["human_held_test"]["held_test"] == "benchmark"
+    assert "--held-test benchmark" in result["reproduce"]
+    assert outcome["success"], outcome["failure_reason"]
+    assert set(outcome["disturbance"]) == {"+x", "-x", "+y", "-y", "+z", "-z"}
+    assert all(
+        m["shift_mm"] <= 50.0 and m["turn_deg"] <= 15.0 for m in outcome["disturbance"].values()
+    )
+    grasped = default_registry().default_object_for(HumanGrasp.PINCH)
+    weight = grasped.mass * 9.81
+    # Per test (robot, then human): the weight cancelled, six pushes each back to the
+    # cancelled weight, then nothing.
+    up = np.array([0.0, 0.0, weight])
+    pushes = [f for f in forces if f is not None and not np.allclose(f, up)]
+    assert len(pushes) == 12
+    for push in pushes[:6]:
+        assert np.linalg.norm(push - up) == pytest.approx(weight)
+    assert forces[-1] is None
+
+
+def test_an_unknown_held_test_or_a_benchmark_with_its_own_push_is_refused():
+    from graspframe.cli.commands import main
+
+    with pytest.raises(
+        InputError, match="unknown held test 'dexgrasp'; held tests: graspframe, benchmark"
+    ):
+        RunRequest(hand="barrett", grasp=HumanGrasp.PINCH, held_test_name="dexgrasp").held_test()
+    with pytest.raises(InputError, match="pushes with the object's whole weight"):
+        RunRequest(
+            hand="barrett",
+            grasp=HumanGrasp.PINCH,
+            held_test_name="benchmark",
+            disturbance_fraction=0.2,
+        ).held_test()
+    assert main(["evaluate", "--hands", "barrett", "--held-test", "dexgrasp"]) == 1
+
+
+def test_the_benchmark_words_name_gravity_and_its_bounds():
+    from graspframe.strategy.held_check import held_test_named, held_test_words
+
+    words = held_test_words(held_test_named("benchmark"))
+    assert "pushes of 100 % of its weight for 2 s each, gravity off" in words
+    assert "within 50 mm and 15 deg" in words
