@@ -194,3 +194,18 @@ def object_coal_geometries(obj: ObjectDescription) -> list:
     if obj.is_mesh:
         return [coal_convex(piece) for piece in obj.mesh_geometry().pieces]
     return [coal_geometry(obj.shape, obj.dimensions)]
+
+
+RING_SECTIONS = 12  # sides of a cylinder's mesh in shape_points: rims sampled at 30 deg
+
+
+def shape_points(shape, T) -> np.ndarray:
+    """Points bounding a collision shape (its mesh's vertices), in the frame T maps
+    into. A sphere gives its extreme points along that frame's axes instead (exact for
+    the lowest point along any of those axes; their mean is its centre)."""
+    if type(shape).__name__ == "Sphere":
+        return np.concatenate([np.eye(3), -np.eye(3)]) * shape.radius + T[:3, 3]
+    mesh = geometry_mesh(shape, sections=RING_SECTIONS)
+    if mesh is None:
+        return T[:3, 3].reshape(1, 3)
+    return np.asarray(mesh.vertices) @ T[:3, :3].T + T[:3, 3]

@@ -28,22 +28,9 @@ from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.objects import ObjectDescription
 from graspframe.model_files.urdf_model import UrdfModel
 from graspframe.robot_models.model import CollisionModel, model_of
-from graspframe.robot_models.shapes import geometry_mesh, object_coal_geometries
+from graspframe.robot_models.shapes import object_coal_geometries, shape_points
 
 SWEEP_SAMPLES = 16  # configurations between open and closed
-RING_SECTIONS = 12  # sides of a cylinder's mesh: its rims are sampled at 30 deg
-
-
-def shape_points(shape, T) -> np.ndarray:
-    """Points bounding a collision shape (its mesh's vertices), in the frame T maps
-    into. A sphere gives its extreme points along that frame's axes instead (exact for
-    the lowest point along any of those axes; their mean is its centre)."""
-    if type(shape).__name__ == "Sphere":
-        return np.concatenate([np.eye(3), -np.eye(3)]) * shape.radius + T[:3, 3]
-    mesh = geometry_mesh(shape, sections=RING_SECTIONS)
-    if mesh is None:
-        return T[:3, 3].reshape(1, 3)
-    return np.asarray(mesh.vertices) @ T[:3, :3].T + T[:3, 3]
 
 
 @functools.lru_cache(maxsize=16)
