@@ -70,12 +70,16 @@ class ClosingSweep(NamedTuple):
     (followers included) from open to closed; touched: the real fingers (not the palm)
     that stopped on the object, in the order they touched it; open_inside: the links
     that lie in the object in the open posture (the approach would push it);
-    p_object_touch: (N, 3) [m] where each of them first touched it, object frame."""
+    p_object_touch: (N, 3) [m] where each of them first touched it, object frame (a
+    point of the shapes' overlap); finger_touch: (N,) the real finger of each;
+    s_touch: (N,) how far through the closing (0 open, 1 closed) each touched."""
 
     configurations: list[dict[str, float]]
     touched: tuple[str, ...]
     open_inside: tuple[str, ...] = ()
     p_object_touch: NDArray[np.float64] = np.zeros((0, 3))
+    finger_touch: tuple[str, ...] = ()
+    s_touch: tuple[float, ...] = ()
 
 
 def closing_sweep(
@@ -103,6 +107,8 @@ def closing_sweep(
     stopped: list[str] = []
     open_inside: list[str] = []
     touch_points: list[NDArray[np.float64]] = []
+    touch_fingers: list[str] = []
+    touch_s: list[float] = []
     configurations = []
     previous: dict[str, float] | None = None
     for s in np.linspace(0.0, 1.0, samples):
@@ -123,6 +129,8 @@ def closing_sweep(
                         touching.add(finger)
                         p_root = np.asarray(result.getContact(0).pos, dtype=float)
                         touch_points.append(T_object_root @ np.append(p_root, 1.0))
+                        touch_fingers.append(finger)
+                        touch_s.append(float(s))
                         break
             for finger in sorted(touching):
                 stopped.append(finger)
@@ -133,7 +141,14 @@ def closing_sweep(
         configurations.append(q)
         previous = q
     points = np.array([p[:3] for p in touch_points]).reshape(-1, 3)
-    return ClosingSweep(configurations, tuple(stopped), tuple(open_inside), points)
+    return ClosingSweep(
+        configurations,
+        tuple(stopped),
+        tuple(open_inside),
+        points,
+        tuple(touch_fingers),
+        tuple(touch_s),
+    )
 
 
 def _links_inside(model: CollisionModel, q: dict[str, float], geometries: list, tf_object) -> list:
