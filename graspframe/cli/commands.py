@@ -334,6 +334,34 @@ def review(
     raise typer.Exit(review_command(run))
 
 
+spec_app = typer.Typer(help="Hand spec files: draft one from a URDF.", no_args_is_help=True)
+app.add_typer(spec_app, name="spec")
+
+
+@spec_app.command("draft")
+def spec_draft(
+    urdf: Annotated[Path, typer.Argument(help="The hand's URDF, as its vendor ships it.")],
+    out: Annotated[Path, typer.Option(help="The spec file to write (*.toml).")],
+    synthesize: Annotated[
+        bool,
+        typer.Option(
+            "--synthesize/--no-synthesize",
+            help="Synthesise the preshapes from the human reference grasps (physics, a few "
+            "minutes); without, one generic wrap serves every grasp.",
+        ),
+    ] = True,
+    name: Annotated[str | None, typer.Option(help="The hand's name (default: the URDF's).")] = None,
+    backend: Annotated[
+        str, typer.Option(help="Physics backend of the synthesis.")
+    ] = DEFAULT_BACKEND,
+) -> None:
+    """Draft a hand spec from a URDF: fingers, thumb, palm frame and pad, joint roles,
+    drive; then its preshapes, synthesised. Says what it could not decide."""
+    from graspframe.cli.spec_draft import spec_draft_command
+
+    raise typer.Exit(spec_draft_command(urdf, out, synthesize, name, backend))
+
+
 @app.command("check-hand")
 def check_hand(
     name: Annotated[str, typer.Argument(help="A registered hand, or a hand spec file (*.toml).")],
@@ -362,11 +390,23 @@ def check_hand(
         ),
     ] = DEFAULT_ARM,
     held_test: Annotated[str, typer.Option(help=HELD_TEST_HELP)] = "graspframe",
+    synthesize: Annotated[
+        bool,
+        typer.Option(
+            "--synthesize",
+            help="First (re)write the spec's preshapes and grasp map, synthesised from the "
+            "human reference grasps (a spec file only).",
+        ),
+    ] = False,
 ) -> None:
     """Check a hand plugin against the contract and say, in plain words, what is wrong."""
     from graspframe.cli.check_hand import check_hand_command
 
     on_arm = None if arm.strip().lower() == "none" else arm
+    if synthesize:
+        from graspframe.cli.spec_draft import synthesize_command
+
+        synthesize_command(name, backend)
     code = check_hand_command(
         name, hold=hold, backend=backend, pictures=pictures, arm=on_arm, held_test=held_test
     )

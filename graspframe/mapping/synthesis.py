@@ -21,7 +21,11 @@ fingers, compared with the human reference's (metrics/virtual_fingers.py). The
 objective is the virtual-finger position error [mm] plus the orientation error [deg],
 plus 30 per virtual finger more or fewer than the human's, plus 60 per whole closing
 between the first finger's touch and the last's (a finger that arrives first pushes
-the object away: the fingers should meet it together); a candidate whose open hand
+the object away: the fingers should meet it together), plus 150 times the contacts'
+unbalanced push (unit forces along the normals, the table taking the downward part:
+fingers that all push one way roll the object off), plus 1 per mm the hand must be
+raised off the table (as the planner raises it, which moves the object in the hand);
+a candidate whose open hand
 lies in the object, or that touches with fewer than two real fingers, is refused. A
 coordinate search (each parameter in turn, twice) finds the best; the best 16 are
 ranked again by their worst objective with the object 1 cm off its place along each
@@ -61,8 +65,8 @@ OPEN_FRACTIONS = (0.0, 0.15, 0.3, 0.45)
 RAISES = 2  # times a candidate is raised off the table before it is refused
 CLOSE_FRACTIONS = (1.0, 0.75, 0.5)  # of the way from rest to the closing limit
 SPREADS = (0.0, 1.0 / 3.0)  # of the way from rest to a spread joint's far limit
-SHIFTS_X = (-0.03, -0.015, 0.0, 0.015, 0.03)  # [m] grasp centre along palm x
-SHIFTS_Y = (-0.02, 0.0, 0.02)  # [m] along palm y
+SHIFTS_X = (-0.045, -0.03, -0.015, 0.0, 0.015, 0.03, 0.045)  # [m] grasp centre along palm x
+SHIFTS_Y = (-0.04, -0.02, 0.0, 0.02, 0.04)  # [m] along palm y
 STANDOFFS = (0.0, 0.015, 0.03)  # [m] non-volar: beyond the planner's palm clearance
 VF_COUNT_COST = 30.0  # objective per virtual finger more or fewer than the human's
 # Penalties of a refused candidate (the search walks through them to feasible ones).
@@ -70,6 +74,8 @@ INSIDE_COST = 200.0  # per link of the open hand in the object
 TABLE_COST, TABLE_COST_PER_MM = 100.0, 10.0
 FEW_FINGERS_COST = 300.0
 STAGGER_COST = 60.0  # per whole closing between the first finger's touch and the last's
+RAISE_COST_PER_MM = 1.0  # a raise off the table moves the object in the hand
+IMBALANCE_COST = 150.0  # times the contacts' unbalanced push (0..1, see _imbalance)
 PASSES = 2  # of the coordinate search
 ROBUST_SHIFT = 0.01  # [m]
 ROBUST_CANDIDATES = 16  # re-ranked by their worst objective with the object shifted
@@ -251,7 +257,11 @@ class _Space:
                 if finger == self.thumb:
                     value = dict(choice.thumb).get(j, rest[j])
                 else:
-                    far = joints[j].upper if abs(joints[j].upper) >= abs(joints[j].lower) else joints[j].lower
+                    far = (
+                        joints[j].upper
+                        if abs(joints[j].upper) >= abs(joints[j].lower)
+                        else joints[j].lower
+                    )
                     value = rest[j] + choice.spread * (far - rest[j])
                 open_q[j] = closed_q[j] = value
         R_object_palm = self._R_object_palm(choice)
@@ -310,9 +320,11 @@ class _Space:
         T_palm_object = make_T(R_object_palm.T, centre) @ make_T(np.eye(3), (*shift, 0.0))
         sweep = closing_sweep(hand, hand.preshape(preshape.name), self.obj, T_palm_object)
         low, depth = self._below_table(hand, sweep.configurations, T_palm_object)
+        raised = 0.0
         for _ in range(RAISES):  # as the planner does: the hand raised off the table
             if not low:
                 break
+            raised += depth + 0.001
             T_palm_object = T_palm_object.copy()
             T_palm_object[:3, 3] -= T_palm_object[:3, :3] @ np.array([0.0, 0.0, depth + 0.001])
             sweep = closing_sweep(hand, hand.preshape(preshape.name), self.obj, T_palm_object)
@@ -320,7 +332,7 @@ class _Space:
         result = Evaluated(choice, hand.preshape(preshape.name), math.inf, touched=sweep.touched)
         palm_links = set(self.hand.real_fingers[PALM])
         inside = [link for link in sweep.open_inside if link not in palm_links]
-        refused, penalty = [], 0.0
+        refused, penalty = [], RAISE_COST_PER_MM * 1000 * raised
         if inside:
             refused.append(f"open, {', '.join(inside)} lie in the object")
             penalty += INSIDE_COST * len(inside)
@@ -332,7 +344,9 @@ class _Space:
             penalty += FEW_FINGERS_COST
         errors = (math.nan, math.nan, 0.0)
         if sweep.touched:
-            contacts = self._contacts(sweep.p_object_touch, sweep.finger_touch, T_palm_object, volar)
+            contacts = self._contacts(
+                sweep.p_object_touch, sweep.finger_touch, T_palm_object, volar
+            )
             robot = virtual_fingers_from_contacts(contacts)
             comparison = compare(
                 robot,
@@ -343,13 +357,15 @@ class _Space:
             count = abs(len(robot.virtual_fingers) - len(self.human.virtual_fingers))
             # fingers that reach the object one after the other push it off first
             stagger = max(sweep.s_touch) - min(sweep.s_touch)
+            imbalance = _imbalance(contacts)
             errors = (
                 comparison.position_err_mm,
                 comparison.orientation_err_deg,
                 comparison.position_err_mm
                 + comparison.orientation_err_deg
                 + VF_COUNT_COST * count
-                + STAGGER_COST * stagger,
+                + STAGGER_COST * stagger
+                + IMBALANCE_COST * imbalance,
             )
         else:
             penalty += FEW_FINGERS_COST
@@ -381,7 +397,9 @@ class _Space:
     def with_preshape(self, preshape: HandPreshape) -> HandDescription:
         from graspframe.specs.hands import fingertip_height
 
-        hand = replace(self.hand, preshapes={preshape.name: preshape}, grasp_map={self.grasp: preshape.name})
+        hand = replace(
+            self.hand, preshapes={preshape.name: preshape}, grasp_map={self.grasp: preshape.name}
+        )
         delta = fingertip_height(hand, hand.fingertip_frames)(preshape.open_q)
         return replace(hand, preshapes={preshape.name: replace(preshape, delta=max(delta, 0.0))})
 
@@ -408,7 +426,9 @@ class _Space:
         only works where the object stands exactly is fragile."""
         costs = [evaluated.cost]
         for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1)):
-            shifted = self.score(evaluated.preshape, evaluated.choice, (ROBUST_SHIFT * dx, ROBUST_SHIFT * dy))
+            shifted = self.score(
+                evaluated.preshape, evaluated.choice, (ROBUST_SHIFT * dx, ROBUST_SHIFT * dy)
+            )
             costs.append(shifted.cost)
         return max(costs)
 
@@ -426,6 +446,18 @@ class _Space:
             if not math.isfinite(best.cost):
                 break
         return sorted(self.cache.values(), key=lambda e: e.cost)
+
+
+def _imbalance(contacts: Sequence[Contact]) -> float:
+    """How much the contacts, each pushing with a unit force along its normal into the
+    object, push it one way: |sum of the forces| / their count (0: they balance, 1: all
+    push the same way), the table taking what pushes the object down (object frame z is
+    the world's up for an object standing on it)."""
+    forces = np.array([c.f for c in contacts], dtype=float).reshape(-1, 3)
+    forces /= np.maximum(np.linalg.norm(forces, axis=1, keepdims=True), 1e-12)
+    net = forces.sum(axis=0)
+    net[2] = max(net[2], 0.0)
+    return float(np.linalg.norm(net) / max(len(forces), 1))
 
 
 def _Rz(angle: float) -> NDArray[np.float64]:
@@ -524,7 +556,15 @@ def _distinct(ranked: Sequence[Evaluated]) -> list[Evaluated]:
     seen, kept = set(), []
     for e in ranked:
         c = e.choice
-        key = (c.fingers, c.roll_deg, c.open_fraction, c.close_fraction, c.spread, c.standoff, c.thumb)
+        key = (
+            c.fingers,
+            c.roll_deg,
+            c.open_fraction,
+            c.close_fraction,
+            c.spread,
+            c.standoff,
+            c.thumb,
+        )
         if key not in seen:
             seen.add(key)
             kept.append(e)
@@ -620,9 +660,7 @@ def preshape_tables(synthesis: Synthesis, draft: HandDraft) -> str:
         elif result.held:
             lines.append(f"# Held: yes (held trial {len(result.trials)} of {len(result.trials)}).")
         else:
-            lines.append(
-                f"# Held: NO after {len(result.trials)} candidates: {result.failure}"
-            )
+            lines.append(f"# Held: NO after {len(result.trials)} candidates: {result.failure}")
         lines.append(f"[preshapes.{name}]")
         centre = ", ".join(f"{round(v, 4):g}" for v in preshape.grasp_center_palm)
         lines.append(f"grasp_center = [{centre}]")
