@@ -174,10 +174,12 @@ def hand_alone_grasp(
     backend: Backend,
     obj: ObjectDescription | None = None,
     disturb: bool = True,
+    T_object_palm: NDArray[np.float64] | None = None,
+    held: HeldTest | None = None,
 ) -> GraspOutcome:
-    """Plan and execute `grasp` with the hand alone on the floating base, on its design
-    object (or `obj`) standing on a table at z = 0; returns the GraspOutcome."""
-    return _hand_alone(hand, grasp, backend, obj, disturb)[0]
+    """The GraspOutcome of `_hand_alone` (the hand alone on the floating base, on its
+    design object or `obj`, standing on a table at z = 0)."""
+    return _hand_alone(hand, grasp, backend, obj, disturb, T_object_palm, held)[0]
 
 
 def _design_placement(preshape: HandPreshape) -> NDArray[np.float64]:
@@ -239,10 +241,9 @@ def _hand_alone(
     T_object_palm: NDArray[np.float64] | None = None,
     held: HeldTest | None = None,
 ) -> tuple[GraspOutcome, tuple[Moment, ...], CheckedPlan]:
-    """(the outcome, its moments, the CheckedPlan on the floating base) of
-    `hand_alone_grasp`; T_object_palm: the human palm on the object (default: the
-    preshape's design object where it lies in the palm); held: the held test (default:
-    graspframe's, with the pushes when `disturb`)."""
+    """(the outcome, its moments, the CheckedPlan on the floating base); T_object_palm:
+    the human palm on the object (default: the design object where it lies in the
+    palm); held: the held test (default: graspframe's, pushes when `disturb`)."""
     from graspframe.strategy.execution import execute
     from graspframe.strategy.method import MethodStrategy
 

@@ -23,6 +23,7 @@ from rich.markup import escape
 from graspframe import __version__
 from graspframe.cli.interrupts import ignore_until_exit, interruptible
 from graspframe.cli.plugin_commands import WithPluginCommands
+from graspframe.cli.spec_draft import spec_app
 from graspframe.common.defaults import (
     DEFAULT_ARM,
     DEFAULT_BACKEND,
@@ -334,32 +335,7 @@ def review(
     raise typer.Exit(review_command(run))
 
 
-spec_app = typer.Typer(help="Hand spec files: draft one from a URDF.", no_args_is_help=True)
 app.add_typer(spec_app, name="spec")
-
-
-@spec_app.command("draft")
-def spec_draft(
-    urdf: Annotated[Path, typer.Argument(help="The hand's URDF, as its vendor ships it.")],
-    out: Annotated[Path, typer.Option(help="The spec file to write (*.toml).")],
-    synthesize: Annotated[
-        bool,
-        typer.Option(
-            "--synthesize/--no-synthesize",
-            help="Synthesise the preshapes from the human reference grasps (physics, a few "
-            "minutes); without, one generic wrap serves every grasp.",
-        ),
-    ] = True,
-    name: Annotated[str | None, typer.Option(help="The hand's name (default: the URDF's).")] = None,
-    backend: Annotated[
-        str, typer.Option(help="Physics backend of the synthesis.")
-    ] = DEFAULT_BACKEND,
-) -> None:
-    """Draft a hand spec from a URDF: fingers, thumb, palm frame and pad, joint roles,
-    drive; then its preshapes, synthesised. Says what it could not decide."""
-    from graspframe.cli.spec_draft import spec_draft_command
-
-    raise typer.Exit(spec_draft_command(urdf, out, synthesize, name, backend))
 
 
 @app.command("check-hand")

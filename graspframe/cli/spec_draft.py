@@ -5,23 +5,29 @@ report of the steps' times and what the draft could not decide."""
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
+from graspframe.common.defaults import DEFAULT_BACKEND
 from graspframe.common.errors import InputError
 from graspframe.plugin_system.registry import default_registry
 from graspframe.specs import is_spec_path
 
+if TYPE_CHECKING:
+    from graspframe.mapping.spec_files import Written
 
-def _progress(started: float):
+
+def _progress(started: float) -> Callable[[str], None]:
     def progress(message: str) -> None:
         typer.echo(f"· {message} ({time.perf_counter() - started:.0f} s)", err=True)
 
     return progress
 
 
-def _report(written) -> None:
+def _report(written: Written) -> None:
     synthesis = written.synthesis
     if synthesis is not None:
         for result in synthesis.grasps:
@@ -37,7 +43,8 @@ def _report(written) -> None:
             typer.echo(
                 f"{result.grasp.value} -> preshape {synthesis.grasp_map[result.grasp.value]}: "
                 f"{held}{why}; virtual-finger error predicted "
-                f"{result.chosen.position_err_mm:.1f} mm {result.chosen.orientation_err_deg:.1f} deg"
+                f"{result.chosen.position_err_mm:.1f} mm "
+                f"{result.chosen.orientation_err_deg:.1f} deg"
                 f"{measured}; {result.evaluated} candidates, {len(result.trials)} held "
                 f"trials, {result.seconds:.0f} s"
             )
@@ -71,3 +78,28 @@ def synthesize_command(spec: str, backend: str) -> None:
     from graspframe.mapping.spec_files import synthesize_spec_file
 
     _report(synthesize_spec_file(Path(spec), registry, physics, _progress(time.perf_counter())))
+
+
+spec_app = typer.Typer(help="Hand spec files: draft one from a URDF.", no_args_is_help=True)
+
+
+@spec_app.command("draft")
+def spec_draft(
+    urdf: Annotated[Path, typer.Argument(help="The hand's URDF, as its vendor ships it.")],
+    out: Annotated[Path, typer.Option(help="The spec file to write (*.toml).")],
+    synthesize: Annotated[
+        bool,
+        typer.Option(
+            "--synthesize/--no-synthesize",
+            help="Synthesise the preshapes from the human reference grasps (physics, a few "
+            "minutes); without, one generic wrap serves every grasp.",
+        ),
+    ] = True,
+    name: Annotated[str | None, typer.Option(help="The hand's name (default: the URDF's).")] = None,
+    backend: Annotated[
+        str, typer.Option(help="Physics backend of the synthesis.")
+    ] = DEFAULT_BACKEND,
+) -> None:
+    """Draft a hand spec from a URDF: fingers, thumb, palm frame and pad, joint roles,
+    drive; then its preshapes, synthesised. Says what it could not decide."""
+    raise typer.Exit(spec_draft_command(urdf, out, synthesize, name, backend))

@@ -18,8 +18,11 @@ from pathlib import Path
 from graspframe.common.errors import InputError
 from graspframe.common.files import atomic_write
 from graspframe.hal.drivers import Backend
-from graspframe.mapping.synthesis import Synthesis, preshape_tables, roles_of, synthesize
-from graspframe.specs.draft import HandDraft, draft_hand, generic_wrap, spec_text
+from graspframe.mapping.candidates import roles_of
+from graspframe.mapping.synthesis import Synthesis, synthesize
+from graspframe.mapping.tables import preshape_tables
+from graspframe.specs.draft import HandDraft, draft_hand
+from graspframe.specs.draft_text import generic_wrap, spec_text
 
 HEADER = re.compile(r"^\s*\[{1,2}\s*([^\]]+?)\s*\]{1,2}\s*(#.*)?$")
 

@@ -412,8 +412,10 @@ def test_result_json_holds_everything_to_reproduce_the_run(tmp_path):
     assert {"plan", "outcome", "events", "score", "request", "snapshots"} <= set(saved)
     assert saved["outcome"]["contacts_object"]
     assert {"held_after_lift", "held_under_disturbance", "disturbance"} <= set(saved["outcome"])
-    assert saved["outcome"]["held_test"] == saved["score"]["human_held_test"]["held_test"] == (
-        "graspframe"
+    assert (
+        saved["outcome"]["held_test"]
+        == saved["score"]["human_held_test"]["held_test"]
+        == ("graspframe")
     )
     assert (Path(result["result_path"]).parent / "snapshots.png").is_file()
     assert Path(saved["human_reference_picture"]).is_file()  # the human grasp, drawn

@@ -1,0 +1,220 @@
+"""The palm frame and the palm pad a hand draft puts on a URDF's palm (see
+graspframe/specs/draft.py): +z the direction the fingers close towards, +x along them,
+the origin on the palm's collision surface where the palm is solid below it; the pad the
+palm surface there, cut back clear of the fingers."""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from graspframe.specs.draft_kinematics import (
+    Axes,
+    DraftFinger,
+    Joints,
+    Kinematics,
+    closing_direction,
+    tip_position,
+)
+
+PALM_SURFACE_LAYER = 0.003  # [m] palm points this close to the palm height form its pad
+PAD_MARGIN = 0.005  # [m] the pad stays this far inside the palm surface's outline
+MIN_PAD_SIDE = 0.01  # [m]
+
+
+def palm_frame(
+    fingers: Mapping[str, DraftFinger],
+    thumb: str | None,
+    joints: Joints,
+    kin: Kinematics,
+    axes: Axes,
+    rest: Mapping[str, float],
+    palm_links: Sequence[str],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """(T_palmlink_palm, pad centre [m] in the palm frame, pad size [m])."""
+    kin.place(rest)
+    others = [f for n, f in fingers.items() if n != thumb] or list(fingers.values())
+    closing = np.mean([closing_direction(f, joints, kin, axes) for f in others], axis=0)
+    roots = np.array([kin.T(joints[f.joints[0]].child)[:3, 3] for f in fingers.values()])
+    tips = np.array([tip_position(f, kin) for f in others])
+    along = np.mean(
+        tips - np.array([kin.T(joints[f.joints[0]].child)[:3, 3] for f in others]), axis=0
+    )
+    every = np.mean([closing_direction(f, joints, kin, axes) for f in fingers.values()], axis=0)
+    if np.linalg.norm(every) < 0.3:  # the fingers close against each other: a gripper
+        z = along / max(np.linalg.norm(along), 1e-12)
+        x_guess = tips[0] - roots.mean(axis=0)
+    else:
+        # The normal of the plane the extended fingers' curling joints lie in,
+        # turned the way they close; the thumb's points join when the others are a line.
+        def chain_points(chosen: Sequence[DraftFinger]) -> NDArray[np.float64]:
+            return np.array(
+                [kin.T(joints[j].child)[:3, 3] for f in chosen for j in f.flexion]
+            ).reshape(-1, 3)
+
+        points = chain_points(others)
+        spread = np.linalg.svd(points - points.mean(axis=0), compute_uv=False)
+        if len(points) < 3 or spread[1] < 0.1 * spread[0]:
+            points = chain_points(list(fingers.values()))
+        normal = np.linalg.svd(points - points.mean(axis=0))[2][2]
+        z = normal if float(normal @ closing) >= 0 else -normal
+        x_guess = along
+    x = x_guess - (x_guess @ z) * z
+    if np.linalg.norm(x) < 1e-6:
+        x = np.cross(z, [1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.cross(z, [0.0, 1.0, 0.0])
+    x = x / np.linalg.norm(x)
+    y = np.cross(z, x)
+    R = np.column_stack([x, y, z])
+    points = kin.link_points(palm_links)
+    centre = roots.mean(axis=0)
+    if len(points):
+        local = (points - centre) @ R
+        near = local[np.hypot(local[:, 0], local[:, 1]) <= max(0.03, np.ptp(local[:, 0]) / 2)]
+        height = float(near[:, 2].max()) if len(near) else float(local[:, 2].max())
+        # the origin: the middle of the palm surface (its points within 3 mm of the
+        # height), on it
+        layer = local[local[:, 2] >= height - PALM_SURFACE_LAYER]
+        lo, hi = layer[:, :2].min(axis=0) + PAD_MARGIN, layer[:, :2].max(axis=0) - PAD_MARGIN
+        size = np.maximum(hi - lo, MIN_PAD_SIDE)
+        middle = (layer[:, :2].min(axis=0) + layer[:, :2].max(axis=0)) / 2
+        middle = _solid_below(
+            kin, palm_links, centre, R, height, middle, local[:, :2].min(axis=0),
+            local[:, :2].max(axis=0),
+        )  # fmt: skip
+        lo, hi = _clear_of_fingers(kin, fingers, joints, centre, R, height, middle, lo, hi)
+        size = np.maximum(hi - lo, MIN_PAD_SIDE)
+        origin = centre + R @ np.array([middle[0], middle[1], height])
+        pad_centre = np.array(
+            [(lo[0] + hi[0]) / 2 - middle[0], (lo[1] + hi[1]) / 2 - middle[1], 0.0]
+        )
+    else:
+        origin, size, pad_centre = centre, np.array([0.04, 0.04]), np.zeros(3)
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = R, origin
+    return T, pad_centre, np.array([size[0], size[1], 0.002])
+
+
+PROBE_DEPTH = 0.0105  # [m] the palm must be solid this far below its frame's origin
+PROBE_STEP = 0.003  # [m] the grid of origins tried
+PAD_CLEARANCE = 0.002  # [m] finger shapes stay this far from the pad
+CURL_FRACTIONS = (0.0, 0.25, 0.5, 1.0)
+
+
+class _Solids:
+    """The collision shapes of some links as convex hulls (half-space equations), in the
+    palm link's frame: which points lie inside, and surface samples."""
+
+    def __init__(self, kin: Kinematics, links: Sequence[str]):
+        from scipy.spatial import ConvexHull
+
+        from graspframe.robot_models.shapes import geometry_mesh
+
+        T_palm_root = np.linalg.inv(kin.collision.T_root_frame(kin.palm_link))
+        wanted = set(links)
+        self.equations, samples = [], []
+        for link, shape, T_root_shape in kin.collision.shapes():
+            if link not in wanted:
+                continue
+            mesh = geometry_mesh(shape)
+            if mesh is None:
+                continue
+            T = T_palm_root @ T_root_shape
+            vertices = np.asarray(mesh.vertices) @ T[:3, :3].T + T[:3, 3]
+            with contextlib.suppress(Exception):  # a flat piece: no volume to be inside
+                self.equations.append(ConvexHull(vertices).equations)
+            mesh.apply_transform(T)
+            samples.append(vertices)
+            samples.append(np.asarray(mesh.sample(400, seed=0)))
+        self.samples = np.vstack(samples) if samples else np.zeros((0, 3))
+
+    def inside(self, points: NDArray[np.float64]) -> NDArray[np.bool_]:
+        hit = np.zeros(len(points), dtype=bool)
+        for eq in self.equations:
+            hit |= np.all(points @ eq[:, :3].T + eq[:, 3] <= 1e-9, axis=1)
+        return hit
+
+
+def _solid_below(
+    kin: Kinematics,
+    palm_links: Sequence[str],
+    centre: NDArray[np.float64],
+    R: NDArray[np.float64],
+    height: float,
+    middle: NDArray[np.float64],
+    lo: NDArray[np.float64],
+    hi: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """The in-plane point nearest `middle` (palm-frame x, y [m]) of the palm surface
+    below which the palm is solid to PROBE_DEPTH (the palm frame's contract)."""
+    solids = _Solids(kin, palm_links)
+    xs = np.arange(lo[0], hi[0] + 1e-9, PROBE_STEP)
+    ys = np.arange(lo[1], hi[1] + 1e-9, PROBE_STEP)
+    grid = np.array([(x, y) for x in xs for y in ys]).reshape(-1, 2)
+    below = np.column_stack([grid, np.full(len(grid), height - PROBE_DEPTH)])
+    above = np.column_stack([grid, np.full(len(grid), height + 0.001)])
+    solid = solids.inside(centre + below @ R.T) & ~solids.inside(centre + above @ R.T)
+    if not solid.any():
+        return middle
+    chosen = grid[solid]
+    return chosen[int(np.argmin(np.linalg.norm(chosen - middle, axis=1)))]
+
+
+def _clear_of_fingers(
+    kin: Kinematics,
+    fingers: Mapping[str, DraftFinger],
+    joints: Joints,
+    centre: NDArray[np.float64],
+    R: NDArray[np.float64],
+    height: float,
+    middle: NDArray[np.float64],
+    lo: NDArray[np.float64],
+    hi: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The pad's (lo, hi) corners (palm-frame x, y [m]) cut back, edge by edge, until no
+    finger shape, at rest or curled (CURL_FRACTIONS of the way closed), comes within
+    PAD_CLEARANCE of it (the pad is 2 mm thick on the palm surface); the pad keeps
+    `middle` inside."""
+    finger_links = [link for f in fingers.values() for link in f.links]
+    rest = {j: v for j, v in kin.collision_q().items()}
+    closed = dict(rest)
+    for finger in fingers.values():
+        for name in finger.flexion:
+            joint = joints[name]
+            closed[name] = joint.upper if finger.closing_sign[name] > 0 else joint.lower
+    samples = []
+    for t in CURL_FRACTIONS:  # the fingers as they curl: their knuckles turn near the pad
+        kin.place({j: rest[j] + t * (closed[j] - rest[j]) for j in rest})
+        samples.append(_Solids(kin, finger_links).samples)
+    kin.place(rest)
+    points = (np.vstack(samples) - centre) @ R
+    near = points[np.abs(points[:, 2] - height) <= 0.001 + PAD_CLEARANCE]
+    lo, hi = np.array(lo, dtype=float), np.array(hi, dtype=float)
+    while True:
+        inside = near[
+            np.all(near[:, :2] >= lo - PAD_CLEARANCE, axis=1)
+            & np.all(near[:, :2] <= hi + PAD_CLEARANCE, axis=1)
+        ]
+        if len(inside) == 0 or np.any(hi - lo <= MIN_PAD_SIDE):
+            break
+        p = inside[0, :2]
+        # move the edge that loses the least pad past the point, keeping the middle in
+        cuts = []
+        for axis in (0, 1):
+            if p[axis] >= middle[axis]:
+                cuts.append((hi[axis] - (p[axis] - PAD_CLEARANCE), axis, True))
+            else:
+                cuts.append(((p[axis] + PAD_CLEARANCE) - lo[axis], axis, False))
+        before = (lo.copy(), hi.copy())
+        for _, axis, upper in sorted(cuts):
+            if upper:
+                hi[axis] = max(middle[axis] + MIN_PAD_SIDE / 2, p[axis] - PAD_CLEARANCE - 1e-4)
+            else:
+                lo[axis] = min(middle[axis] - MIN_PAD_SIDE / 2, p[axis] + PAD_CLEARANCE + 1e-4)
+            if not (np.array_equal(lo, before[0]) and np.array_equal(hi, before[1])):
+                break
+        else:
+            break  # the point lies over the middle itself: the pad cannot clear it
+    return lo, hi
