@@ -11,12 +11,13 @@ from __future__ import annotations
 
 import re
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from graspframe.common.errors import InputError
 from graspframe.common.files import atomic_write
+from graspframe.common.grasps import HumanGrasp
 from graspframe.hal.drivers import Backend
 from graspframe.mapping.candidates import roles_of
 from graspframe.mapping.synthesis import Synthesis, synthesize
@@ -82,12 +83,14 @@ def synthesize_spec_file(
     registry,
     backend: Backend,
     progress: Callable[[str], None] = lambda _message: None,
+    grasps: Sequence[HumanGrasp] = tuple(HumanGrasp),
 ) -> Written:
-    """Replace the spec's preshape tables and grasp map by synthesised ones."""
+    """Replace the spec's preshape tables and grasp map by synthesised ones (for
+    `grasps`: every human grasp by default)."""
     started = time.perf_counter()
     hand = registry.get_hand(str(spec))
     draft, _names = roles_of(hand)
-    synthesis = synthesize(hand, registry, backend, progress=progress)
+    synthesis = synthesize(hand, registry, backend, grasps, progress=progress)
     text = without_tables(Path(spec).read_text(), ("preshapes", "grasp_map"))
     grasp_map = "\n".join(
         ["[grasp_map]", *(f'{g} = "{p}"' for g, p in synthesis.grasp_map.items())]

@@ -178,6 +178,8 @@ def draft_hand(urdf: Path | str, name: str | None = None) -> HandDraft:
             palm_link = paths[0][depth]
         else:
             break
+    if len(paths) == 1:  # one chain, no split: the palm is where its moving joints start
+        palm_link = next(parent_joint[c].parent for c in paths[0][1:] if parent_joint[c].moving)
     robot_name = name or _spec_name(model.name or path.stem)
     draft_notes: list[str] = []
     above = path_to(palm_link)[:-1]

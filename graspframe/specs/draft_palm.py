@@ -55,12 +55,20 @@ def palm_frame(
                 [kin.T(joints[j].child)[:3, 3] for f in chosen for j in f.flexion]
             ).reshape(-1, 3)
 
+        def planar(points: NDArray[np.float64]) -> bool:
+            if len(points) < 3:
+                return False
+            spread = np.linalg.svd(points - points.mean(axis=0), compute_uv=False)
+            return bool(spread[1] >= 0.1 * spread[0])
+
         points = chain_points(others)
-        spread = np.linalg.svd(points - points.mean(axis=0), compute_uv=False)
-        if len(points) < 3 or spread[1] < 0.1 * spread[0]:
+        if not planar(points):
             points = chain_points(list(fingers.values()))
-        normal = np.linalg.svd(points - points.mean(axis=0))[2][2]
-        z = normal if float(normal @ closing) >= 0 else -normal
+        if planar(points):
+            normal = np.linalg.svd(points - points.mean(axis=0))[2][2]
+            z = normal if float(normal @ closing) >= 0 else -normal
+        else:  # one finger in a line: the way it closes
+            z = closing / np.linalg.norm(closing)
         x_guess = along
     x = x_guess - (x_guess @ z) * z
     if np.linalg.norm(x) < 1e-6:

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -27,7 +28,10 @@ GENERIC_OPENING = 0.2  # the generic wrap opens this part of the way to closed
 def _rpy_deg(R: NDArray[np.float64]) -> list[float]:
     from scipy.spatial.transform import Rotation
 
-    return [round(v, 4) for v in Rotation.from_matrix(R).as_euler("xyz", degrees=True)]
+    with warnings.catch_warnings():  # a palm turned 90 deg: gimbal lock, still exact
+        warnings.simplefilter("ignore", UserWarning)
+        angles = Rotation.from_matrix(R).as_euler("xyz", degrees=True)
+    return [round(v, 4) for v in angles]
 
 
 def _vector(values: Sequence[float] | NDArray[np.float64], digits: int = 5) -> str:
