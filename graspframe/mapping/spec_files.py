@@ -53,6 +53,7 @@ def draft_spec_file(
         raise InputError(f"URDF not found: {urdf}")
     if Path(out).suffix.lower() != ".toml":
         raise InputError(f"--out must name a .toml spec file, got {out}")
+    Path(out).parent.mkdir(parents=True, exist_ok=True)
     steps: dict[str, float] = {}
     started = time.perf_counter()
     progress(f"drafting from {Path(urdf).name}")
