@@ -103,6 +103,9 @@ def _held_trial(
         )
     except PlanningError as exc:
         return False, f"no plan: {exc}", []
+    except (GraspframeError, ValueError, FloatingPointError) as exc:
+        # the physics of a bad candidate can blow up (poses not finite): not held
+        return False, f"the simulation failed ({type(exc).__name__}: {exc})", []
     contacts = [c.in_object_frame(outcome.T_world_object_at_hold) for c in outcome.contacts]
     return outcome.success, outcome.failure_reason, contacts
 

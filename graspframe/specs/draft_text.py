@@ -144,9 +144,19 @@ def posture_table(
     prismatic = any(joints[j].kind == "prismatic" for j in q)
     table = f"[preshapes.{_key(name)}.{key}{'' if prismatic else '_deg'}]"
     lines = [table]
+    digits = 5 if prismatic else 2
     for joint, value in q.items():
-        shown = value if prismatic else math.degrees(value)
-        lines.append(f'"{joint}" = {round(shown, 5 if prismatic else 2):g}')
+        limits = (joints[joint].lower, joints[joint].upper)
+        if not prismatic:
+            value, limits = math.degrees(value), (math.degrees(limits[0]), math.degrees(limits[1]))
+        shown = round(value, digits)
+        # rounded past a limit (-20.0 deg of a -0.349 rad limit): rounded inwards instead
+        step = 10.0**-digits
+        if shown < limits[0]:
+            shown = math.ceil(limits[0] / step) * step
+        if shown > limits[1]:
+            shown = math.floor(limits[1] / step) * step
+        lines.append(f'"{joint}" = {round(shown, digits):g}')
     return lines
 
 
