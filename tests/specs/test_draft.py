@@ -158,3 +158,13 @@ def test_bad_draft_arguments_get_one_line(args, message, tmp_path, monkeypatch, 
     assert main([a.replace("{urdf}", urdf) for a in args]) == 1
     err = capsys.readouterr().err
     assert re.search(re.escape(message), err) and len(err.strip().splitlines()) == 1
+
+
+def test_a_posture_never_rounds_past_a_joint_limit():
+    from graspframe.specs.draft_kinematics import Joint
+    from graspframe.specs.draft_text import posture_table
+
+    joint = Joint("12", "revolute", "a", "b", -0.349, 2.094, 1.0, 1.0, None)
+    lines = posture_table("p", "open", {"12": -0.349}, {"12": joint})
+    value = float(lines[1].split("=")[1])
+    assert math.radians(value) >= -0.349 and value == pytest.approx(-19.99, abs=0.01)
