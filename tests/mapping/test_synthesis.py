@@ -64,19 +64,35 @@ def test_a_parallel_gripper_is_synthesised_for_a_pinch_and_a_ball(tmp_path, back
     )
 
 
-ONE_FINGER = """<robot name="one_finger">
-  <link name="palm"><inertial><mass value="0.3"/><inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial>
-    <collision><origin xyz="0 0 -0.01"/><geometry><box size="0.08 0.08 0.02"/></geometry></collision></link>
-  <link name="f1"><inertial><mass value="0.05"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial>
-    <collision><origin xyz="0.03 0 0.005"/><geometry><box size="0.06 0.015 0.01"/></geometry></collision></link>
-  <link name="f2"><inertial><mass value="0.05"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial>
-    <collision><origin xyz="0.025 0 0.005"/><geometry><box size="0.05 0.015 0.01"/></geometry></collision></link>
-  <joint name="j1" type="revolute"><parent link="palm"/><child link="f1"/><origin xyz="0.04 0 0"/>
-    <axis xyz="0 -1 0"/><limit lower="0" upper="1.6" effort="1" velocity="2"/></joint>
-  <joint name="j2" type="revolute"><parent link="f1"/><child link="f2"/><origin xyz="0.06 0 0"/>
-    <axis xyz="0 -1 0"/><limit lower="0" upper="1.6" effort="1" velocity="2"/></joint>
-</robot>
-"""
+INERTIA = '<inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" iyz="0"/>'
+
+
+def _link(name: str, mass: float, xyz: str, size: str) -> str:
+    return (
+        f'<link name="{name}"><inertial><mass value="{mass}"/>{INERTIA}</inertial>'
+        f'<collision><origin xyz="{xyz}"/><geometry><box size="{size}"/></geometry>'
+        "</collision></link>"
+    )
+
+
+def _joint(name: str, parent: str, child: str, xyz: str) -> str:
+    return (
+        f'<joint name="{name}" type="revolute"><parent link="{parent}"/>'
+        f'<child link="{child}"/><origin xyz="{xyz}"/><axis xyz="0 -1 0"/>'
+        '<limit lower="0" upper="1.6" effort="1" velocity="2"/></joint>'
+    )
+
+
+# A palm and one two-link finger that curls over it.
+ONE_FINGER = (
+    '<robot name="one_finger">'
+    + _link("palm", 0.3, "0 0 -0.01", "0.08 0.08 0.02")
+    + _link("f1", 0.05, "0.03 0 0.005", "0.06 0.015 0.01")
+    + _link("f2", 0.05, "0.025 0 0.005", "0.05 0.015 0.01")
+    + _joint("j1", "palm", "f1", "0.04 0 0")
+    + _joint("j2", "f1", "f2", "0.06 0 0")
+    + "</robot>"
+)
 
 
 def test_a_hand_with_one_finger_cannot_make_a_grasp_and_says_why(tmp_path, backend):
