@@ -40,6 +40,7 @@ STAGGER_COST = 60.0  # per whole closing between the first finger's touch and th
 RAISE_COST_PER_MM = 1.0  # a raise off the table moves the object in the hand
 IMBALANCE_COST = 150.0  # times the contacts' unbalanced push (0..1, see _imbalance)
 PASSES = 2  # of the coordinate search
+STARTS = 3  # thumb placings the search starts from
 ROBUST_SHIFT = 0.01  # [m]
 SURFACE_SAMPLES = 20000  # points of the object's surface touches are projected on
 VOLAR_GAP = 0.003  # [m] a volar candidate is closed with the object this far off the palm
@@ -366,18 +367,20 @@ class CandidateSpace:
         return max(costs)
 
     def search(self) -> list[Evaluated]:
-        """The coordinate search; every candidate evaluated, best first."""
-        choice = self.initial()
-        best = self.evaluate(choice)
-        for _ in range(PASSES):
-            for axis in self.axes(best.choice):
-                for candidate in axis:
-                    evaluated = self.evaluate(replace(candidate))
-                    if evaluated.cost < best.cost:
-                        best = evaluated
-                # the next axis varies the best so far
-            if not math.isfinite(best.cost):
-                break
+        """The coordinate search from each of up to STARTS thumb placings (a thumb turned
+        into opposition needs the object elsewhere in the palm: one start cannot walk
+        there a parameter at a time); every candidate evaluated, best first."""
+        thumbs = self.thumb_values()
+        starts = [thumbs[0], thumbs[len(thumbs) // 2], thumbs[-1]][:STARTS]
+        for thumb in dict.fromkeys(starts):
+            best = self.evaluate(replace(self.initial(), thumb=thumb))
+            for _ in range(PASSES):
+                for axis in range(len(self.axes(best.choice))):
+                    # each parameter varied about the best so far
+                    for candidate in self.axes(best.choice)[axis]:
+                        evaluated = self.evaluate(candidate)
+                        if evaluated.cost < best.cost:
+                            best = evaluated
         return sorted(self.cache.values(), key=lambda e: e.cost)
 
 
