@@ -54,7 +54,7 @@ class Choice:
     roll_deg: float = 0.0
     thumb: tuple[tuple[str, float], ...] = ()
     spread: float = 0.0
-    open_fraction: float = 0.15
+    open_fraction: float = 0.0  # the widest aperture: the likeliest to clear the object
     close_fraction: float = 1.0
     shift_x: float = 0.0
     shift_y: float = 0.0

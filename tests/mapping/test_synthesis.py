@@ -1,5 +1,6 @@
 """Preshapes synthesised from the human reference: held, as faithful as the hand-written
-tables, written as an editable table; a hand that cannot make a grasp says why."""
+tables, written as an editable table, by check-hand --synthesize too; a hand that cannot
+make a grasp says why."""
 
 from __future__ import annotations
 
@@ -51,16 +52,22 @@ def test_the_barrett_drafted_from_its_urdf_holds_a_small_cylinder_as_faithfully(
     assert load_spec(spec).preshape_for(HumanGrasp.SMALL_DIAMETER).design_object is not None
 
 
-def test_a_parallel_gripper_is_synthesised_for_a_pinch_and_a_ball(tmp_path, backend):
+def test_check_hand_synthesize_rewrites_a_drafted_gripper_and_checks_it(tmp_path, capsys):
+    """`check-hand SPEC --synthesize` on a spec drafted without synthesis: every grasp
+    synthesised and held (its two jaws close against each other: the draft took one as
+    the thumb, and says so), the table rewritten, the spec checked."""
+    from graspframe.cli.commands import main
+
     spec = tmp_path / "gripper.toml"
-    draft_spec_file(GRIPPER_URDF, spec, REGISTRY, None)
-    hand = REGISTRY.get_hand(str(spec))
-    synthesis = synthesize(hand, REGISTRY, backend, [HumanGrasp.PINCH, HumanGrasp.POWER_SPHERE])
-    assert [r.held for r in synthesis.grasps] == [True, True], [r.failure for r in synthesis.grasps]
-    # its two jaws close against each other: the draft took one as the thumb, and says so
-    assert any(
-        "taken as the thumb" in line
-        for line in draft_spec_file(GRIPPER_URDF, spec, REGISTRY, None).notes
+    written = draft_spec_file(GRIPPER_URDF, spec, REGISTRY, None)
+    assert any("taken as the thumb" in note for note in written.notes)
+    assert main(["check-hand", str(spec), "--synthesize", "--no-hold", "--arm", "none"]) == 0
+    out = capsys.readouterr().out
+    held = [line for line in out.splitlines() if "-> preshape" in line]
+    assert len(held) == 6 and all(": held;" in line for line in held), held
+    assert "all passed" in out
+    assert spec.read_text().count("# Held: yes") == len(
+        tomllib.loads(spec.read_text())["preshapes"]
     )
 
 
