@@ -55,6 +55,9 @@ def preshape_tables(synthesis: Synthesis, draft: HandDraft) -> str:
         centre = ", ".join(f"{round(v, 4):g}" for v in preshape.grasp_center_palm)
         lines.append(f"grasp_center = [{centre}]")
         lines.append(f"roll_deg = {chosen.choice.roll_deg:g}")
+        # the open fingertips' height over the palm (the standoff), as synthesised: 0 for
+        # fingertips open level with or below the palm surface
+        lines.append(f"delta = {round(max(preshape.delta, 0.0), 4):g}")
         design = preshape.design_object
         assert design is not None
         vector = lambda v: "[" + ", ".join(f"{round(float(x), 4):g}" for x in v) + "]"  # noqa: E731

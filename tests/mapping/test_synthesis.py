@@ -49,7 +49,9 @@ def test_the_barrett_drafted_from_its_urdf_holds_a_small_cylinder_as_faithfully(
     assert "# Held: yes" in text and "Virtual-finger error: predicted" in text
     data = tomllib.loads(text)
     assert data["grasp_map"] == {"small_diameter": "small_diameter"}
-    assert load_spec(spec).preshape_for(HumanGrasp.SMALL_DIAMETER).design_object is not None
+    preshape = load_spec(spec).preshape_for(HumanGrasp.SMALL_DIAMETER)
+    assert preshape.design_object is not None
+    assert data["preshapes"]["small_diameter"]["delta"] == pytest.approx(max(preshape.delta, 0.0))
 
 
 def test_check_hand_synthesize_rewrites_a_drafted_gripper_and_checks_it(tmp_path, capsys):
