@@ -2,18 +2,15 @@
 
 Two checks every hand gets (built-in or third-party; `graspframe check-hand` runs them):
 
-- `closing_problems`: closing each preshape in free space brings its opposing real
-  fingers together: the fingertips (the last shaped link of each finger; the palm's
-  sensor pad) of each declared pair (`HandPreshape.opposed`)
-  end within OPPOSED_MAX_GAP of each other, nearer than they started; a preshape that
-  declares no pair needs some pair of real fingers that starts at least
-  OPEN_MIN_GAP apart to end within OPPOSED_MAX_GAP (neighbouring fingers, always
-  close, do not count). Collision shapes placed by Pinocchio, distances by coal.
+- `closing_problems`: closing each preshape in free space brings the fingertips (the
+  last shaped link of each finger; the palm's pad) of each declared pair
+  (`HandPreshape.opposed`) within OPPOSED_MAX_GAP, nearer than they started; with no
+  pair declared, some pair that starts OPEN_MIN_GAP apart (not neighbours) must end
+  within OPPOSED_MAX_GAP. Shapes placed by Pinocchio, distances by coal.
 - `hold_problems`: the hand alone, on the floating base (no arm), encloses and holds
   each preshape's design object: it is planned, approached, closed, lifted 5 cm and
   pushed exactly as a run does (`held` in docs/method.md), in a physics backend.
-  `hold_trials` keeps each trial for check-hand, `hold_measures` says what it measured
-  and `hold_limit` what limited a failed one.
+  `hold_trials` keeps each trial, `hold_measures` and `hold_limit` report it.
 """
 
 from __future__ import annotations

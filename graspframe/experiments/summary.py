@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 
 from graspframe.common.defaults import STRATEGY_METHOD
 from graspframe.common.files import atomic_output, atomic_write
+from graspframe.experiments.table_notes import TABLE_NOTE, table_note  # noqa: F401 (re-exported)
 from graspframe.experiments.trials import TrialRow, TrialSpec, swept_object
 
 if TYPE_CHECKING:
@@ -227,31 +228,6 @@ def _held(success: bool | None, after_lift: bool | None) -> str:
     if success:
         return "yes"
     return "lift only" if after_lift else "no"
-
-
-# Below the table, in summary.md and on the terminal.
-TABLE_NOTE = (
-    "held: lifted 5 cm and kept in the hand while pushed along +-x, +-y, +-z with half "
-    "the object's weight; 'lift only': lifted, then slipped when pushed. "
-    "B held (lift): held in n of the directions (held after the lift in m). "
-    "epsilon, volume: Ferrari-Canny L1 grasp quality and grasp wrench space volume "
-    "(docs/method.md); A human held: the simulated human reference grasp passes the "
-    "same held test."
-)
-BENCHMARK_NOTE = (
-    "held: the benchmark held test (DexGraspBench, Dexonomy): gravity off, lifted 5 cm "
-    "clear of the table, then pushed along +-x, +-y, +-z with the object's weight for 2 s "
-    "each, failing past 5 cm or 15 deg of motion in the hand; 'lift only': lifted, then "
-    "slipped when pushed. B held (lift): held in n of the directions (held after the lift "
-    "in m). epsilon, volume: Ferrari-Canny L1 grasp quality and grasp wrench space volume "
-    "(docs/method.md); A human held: the simulated human reference grasp passes the same "
-    "held test."
-)
-
-
-def table_note(held_test: str) -> str:
-    """The note below the tables of a sweep judged by the held test `held_test`."""
-    return BENCHMARK_NOTE if held_test == "benchmark" else TABLE_NOTE
 
 
 def _size_conditions_of(summary: list[SummaryRow]) -> list[str]:
