@@ -126,6 +126,10 @@ class CandidateSpace:
         self.tree = cKDTree(self.surface)
         self.thumb = next((f for f, d in names.items() if d == draft.thumb), None)
         self.cache: dict[Choice, Evaluated] = {}
+        from graspframe.specs.hands import fingertip_height
+
+        # one collision model for every candidate (the preshapes do not change the model)
+        self.fingertip_height = fingertip_height(hand, hand.fingertip_frames)
 
     # -- candidates ---------------------------------------------------------------------
 
@@ -329,12 +333,12 @@ class CandidateSpace:
         return link, float(limit - lowest[link])
 
     def with_preshape(self, preshape: HandPreshape) -> HandDescription:
-        from graspframe.specs.hands import fingertip_height
-
+        """The hand with `preshape` alone, mapped from the grasp, its delta the open
+        fingertips' height over the palm (0 at least)."""
         hand = replace(
             self.hand, preshapes={preshape.name: preshape}, grasp_map={self.grasp: preshape.name}
         )
-        delta = fingertip_height(hand, hand.fingertip_frames)(preshape.open_q)
+        delta = self.fingertip_height(preshape.open_q)
         return replace(hand, preshapes={preshape.name: replace(preshape, delta=max(delta, 0.0))})
 
     def _contacts(self, points, fingers, T_palm_object, volar) -> list[Contact]:
