@@ -50,6 +50,19 @@ def _fixed_to_each_other(model: CollisionModel, link_a: str, link_b: str) -> boo
     return bool(joint_a == frames[model.model.getFrameId(link_b)].parentJoint)
 
 
+def posture_collisions(
+    model: CollisionModel, q_by_joint: dict[str, float]
+) -> list[tuple[str, str]]:
+    """The pairs of links that overlap or touch with the model placed at q_by_joint
+    (every joint the model has, followers included), pairs meant to meet left out."""
+    model.place(q_by_joint)
+    return [
+        (link_a, link_b)
+        for link_a, link_b in model.colliding_links()
+        if not _fixed_to_each_other(model, link_a, link_b)
+    ]
+
+
 def open_preshape_collisions(
     hand: HandDescription, model: CollisionModel
 ) -> dict[str, list[tuple[str, str, float]]]:
@@ -58,11 +71,10 @@ def open_preshape_collisions(
     left out."""
     collisions: dict[str, list[tuple[str, str, float]]] = {}
     for preshape in hand.preshapes.values():
-        model.place(hand.with_model_followers(preshape.open_q))
+        pairs = posture_collisions(model, hand.with_model_followers(preshape.open_q))
         collisions[preshape.name] = [
             (link_a, link_b, signed_link_distance(model, link_a, link_b))
-            for link_a, link_b in model.colliding_links()
-            if not _fixed_to_each_other(model, link_a, link_b)
+            for link_a, link_b in pairs
         ]
     return collisions
 

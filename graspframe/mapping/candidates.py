@@ -19,7 +19,9 @@ from graspframe.common.grasps import PALM, HumanGrasp
 from graspframe.common.transforms import inv_T, make_T
 from graspframe.hal.descriptions import DesignObject, HandDescription, HandPreshape
 from graspframe.hal.objects import ObjectDescription
+from graspframe.mapping.refusals import approach_refusal, below_table, self_collisions
 from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_contacts
+from graspframe.robot_models.model import CollisionModel, model_of
 from graspframe.specs.draft import HandDraft, draft_hand
 from graspframe.strategy.planner import PlannerParams, object_in_palm
 
@@ -27,6 +29,7 @@ ROLLS_DEG = (0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0)
 OPEN_FRACTIONS = (0.0, 0.15, 0.3, 0.45)
 RAISES = 2  # times a candidate is raised off the table before it is refused
 CLOSE_FRACTIONS = (1.0, 0.75, 0.5)  # of the way from rest to the closing limit
+STOW_FRACTIONS = (1.0, 0.6, 0.3, 0.0)  # a finger that does not close: of the way curled
 SPREADS = (0.0, 1.0 / 3.0)  # of the way from rest to a spread joint's far limit
 SHIFTS_X = (-0.045, -0.03, -0.015, 0.0, 0.015, 0.03, 0.045)  # [m] grasp centre along palm x
 SHIFTS_Y = (-0.04, -0.02, 0.0, 0.02, 0.04)  # [m] along palm y
@@ -36,6 +39,11 @@ VF_COUNT_COST = 30.0  # objective per virtual finger more or fewer than the huma
 INSIDE_COST = 200.0  # per link of the open hand in the object
 TABLE_COST, TABLE_COST_PER_MM = 100.0, 10.0
 FEW_FINGERS_COST = 300.0
+APPROACH_COST = 200.0  # a finger on the object before the palm reaches its goal
+SELF_COLLISION_COST = 200.0  # per pair of links that overlap in the open posture
+# Closed, a finger that closes onto the palm or another finger stops there on the real
+# hand (the simulator lets it through): a penalty, not a refusal.
+CLOSED_OVERLAP_COST = 20.0  # per pair
 STAGGER_COST = 60.0  # per whole closing between the first finger's touch and the last's
 RAISE_COST_PER_MM = 1.0  # a raise off the table moves the object in the hand
 IMBALANCE_COST = 150.0  # times the contacts' unbalanced push (0..1, see _imbalance)
@@ -56,6 +64,7 @@ class Choice:
     spread: float = 0.0
     open_fraction: float = 0.0  # the widest aperture: the likeliest to clear the object
     close_fraction: float = 1.0
+    stow_fraction: float = 1.0
     shift_x: float = 0.0
     shift_y: float = 0.0
     standoff: float = 0.0
@@ -130,6 +139,7 @@ class CandidateSpace:
 
         # one collision model for every candidate (the preshapes do not change the model)
         self.fingertip_height = fingertip_height(hand, hand.fingertip_frames)
+        self.collision_model = CollisionModel(model_of(hand))
 
     # -- candidates ---------------------------------------------------------------------
 
@@ -167,6 +177,7 @@ class CandidateSpace:
             [replace(choice, shift_y=y) for y in SHIFTS_Y],
             [replace(choice, open_fraction=o) for o in OPEN_FRACTIONS],
             [replace(choice, close_fraction=c) for c in CLOSE_FRACTIONS],
+            [replace(choice, stow_fraction=f) for f in STOW_FRACTIONS],
             [] if volar else [replace(choice, standoff=s) for s in STANDOFFS],
         ]
 
@@ -186,8 +197,9 @@ class CandidateSpace:
                 if closing:
                     open_q[j] = rest[j] + choice.open_fraction * (limit - rest[j])
                     closed_q[j] = rest[j] + choice.close_fraction * (limit - rest[j])
-                else:  # curled out of the way
-                    open_q[j] = closed_q[j] = limit
+                else:  # curled out of the way, as far as the palm lets it
+                    stowed = rest[j] + choice.stow_fraction * (limit - rest[j])
+                    open_q[j] = closed_q[j] = stowed
             for j in f.placing:
                 if j not in rest or j in draft.held_at_rest:
                     continue
@@ -243,10 +255,16 @@ class CandidateSpace:
         return result
 
     def score(
-        self, preshape: HandPreshape, choice: Choice, shift: tuple[float, float] = (0.0, 0.0)
+        self,
+        preshape: HandPreshape,
+        choice: Choice,
+        shift: tuple[float, float] = (0.0, 0.0),
+        T_palm_goal: NDArray[np.float64] | None = None,
     ) -> Evaluated:
         """The preshape closed kinematically on the object, scored (the roll is the
-        preshape's own); shift: [m] the object moved along its (horizontal) x and y."""
+        preshape's own); shift: [m] the object moved along its (horizontal) x and y;
+        T_palm_goal: the object in the palm where the planner's goal puts it (default:
+        where the preshape's grasp centre puts it, raised off the table here)."""
         from graspframe.strategy.hand_geometry import closing_sweep
 
         hand = self.with_preshape(preshape)
@@ -256,17 +274,21 @@ class CandidateSpace:
         if volar:  # the palm stops on touching: closed just before it, the palm clear
             centre[2] += VOLAR_GAP
         T_palm_object = make_T(R_object_palm.T, centre) @ make_T(np.eye(3), (*shift, 0.0))
+        if T_palm_goal is not None:
+            T_palm_object = T_palm_goal.copy()
+            T_palm_object[2, 3] += VOLAR_GAP if volar else 0.0
         sweep = closing_sweep(hand, hand.preshape(preshape.name), self.obj, T_palm_object)
-        low, depth = self._below_table(hand, sweep.configurations, T_palm_object)
+        low, depth = below_table(self.obj, hand, sweep.configurations, T_palm_object)
         raised = 0.0
-        for _ in range(RAISES):  # as the planner does: the hand raised off the table
+        # as the planner does: the hand raised off the table (the planner's goal is raised)
+        for _ in range(0 if T_palm_goal is not None else RAISES):
             if not low:
                 break
             raised += depth + 0.001
             T_palm_object = T_palm_object.copy()
             T_palm_object[:3, 3] -= T_palm_object[:3, :3] @ np.array([0.0, 0.0, depth + 0.001])
             sweep = closing_sweep(hand, hand.preshape(preshape.name), self.obj, T_palm_object)
-            low, depth = self._below_table(hand, sweep.configurations, T_palm_object)
+            low, depth = below_table(self.obj, hand, sweep.configurations, T_palm_object)
         result = Evaluated(choice, hand.preshape(preshape.name), math.inf, touched=sweep.touched)
         palm_links = set(self.hand.real_fingers[PALM])
         inside = [link for link in sweep.open_inside if link not in palm_links]
@@ -277,6 +299,19 @@ class CandidateSpace:
         if low:
             refused.append(f"{low} reaches {1000 * depth:.0f} mm into the table's clearance")
             penalty += TABLE_COST + TABLE_COST_PER_MM * 1000 * depth
+        first = approach_refusal(self.obj, hand, preshape, T_palm_object)
+        if first is not None:
+            refused.append(first)
+            penalty += APPROACH_COST
+        open_overlaps, closed_overlaps = self_collisions(self.collision_model, sweep.configurations)
+        if open_overlaps:
+            more = len(open_overlaps) - 1
+            refused.append(
+                f"open, links {' and '.join(open_overlaps[0])} overlap"
+                + (f" (and {more} more pairs)" if more else "")
+            )
+            penalty += SELF_COLLISION_COST * len(open_overlaps)
+        penalty += CLOSED_OVERLAP_COST * len(closed_overlaps)
         if len(set(sweep.touched)) < 2:
             refused.append("fewer than two real fingers touch the object")
             penalty += FEW_FINGERS_COST
@@ -316,22 +351,6 @@ class CandidateSpace:
         )
         return result
 
-    def _below_table(self, hand, configurations, T_palm_object) -> tuple[str | None, float]:
-        """(the link that comes deepest within the planner's table clearance of the table
-        while the hand closes, how deep [m]): the planner would raise the hand off the
-        object. (None, 0) when none does."""
-        from graspframe.hal.objects import TABLE_HEIGHT
-        from graspframe.strategy.hand_geometry import lowest_points
-
-        T_world_palm = self.obj.T_world_standing() @ inv_T(T_palm_object)
-        lowest = lowest_points(hand, configurations, T_world_palm[:3, :3])
-        limit = TABLE_HEIGHT + PlannerParams().table_clearance - T_world_palm[2, 3]
-        below = [link for link, z in lowest.items() if z < limit]
-        if not below:
-            return None, 0.0
-        link = min(below, key=lambda name: lowest[name])
-        return link, float(limit - lowest[link])
-
     def with_preshape(self, preshape: HandPreshape) -> HandDescription:
         """The hand with `preshape` alone, mapped from the grasp, its delta the open
         fingertips' height over the palm (0 at least)."""
@@ -358,11 +377,30 @@ class CandidateSpace:
             for finger, p, n in zip(finger_list, surface, normals, strict=True)
         ]
 
+    def planned(self, evaluated: Evaluated) -> Evaluated:
+        """The candidate scored where the planner puts the hand (its own table raise,
+        reach alternatives and roll: what the held trial executes); refused when the
+        planner refuses it."""
+        from graspframe.strategy.planner import PlanningError, PlanningTarget, plan_grasp
+
+        hand = self.with_preshape(evaluated.preshape)
+        T_world_object = self.obj.T_world_standing()
+        target = PlanningTarget(
+            self.grasp, self.T_object_human_palm, T_world_object, hand, self.obj
+        )
+        try:
+            plan = plan_grasp(target)
+        except PlanningError as exc:
+            return replace(evaluated, cost=math.inf, refused=f"the planner refuses it: {exc}")
+        T_palm_goal = inv_T(plan.T_world_palm_goal) @ T_world_object
+        return self.score(evaluated.preshape, evaluated.choice, T_palm_goal=T_palm_goal)
+
     def robust_cost(self, evaluated: Evaluated) -> float:
         """The worst objective with the object ROBUST_SHIFT off its place along each
-        horizontal axis (an object a finger nudges while the hand closes): a grasp that
-        only works where the object stands exactly is fragile."""
-        costs = [evaluated.cost]
+        horizontal axis (an object a finger nudges while the hand closes: a grasp that
+        only works where the object stands exactly is fragile) and with the hand where
+        the planner puts it."""
+        costs = [evaluated.cost, self.planned(evaluated).cost]
         for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1)):
             shifted = self.score(
                 evaluated.preshape, evaluated.choice, (ROBUST_SHIFT * dx, ROBUST_SHIFT * dy)

@@ -5,7 +5,7 @@ puts it (strategy/reference_poses.py), the synthesis searches a small space of
 preshapes built from the joint roles of the hand's URDF (specs/draft.py):
 
 - which real fingers close (all of them, or the thumb with one or two neighbours, the
-  others curled out of the way), how far the curling joints start closed (the open
+  others stowed out of the way), how far the curling joints start closed (the open
   aperture), the thumb's placing joints (rotation, abduction) and the other fingers'
   spread, the palm's roll about its normal (in 45 deg steps), where the object
   sits in the palm (the grasp centre along the palm's x and y) and, for a grasp the
@@ -25,8 +25,14 @@ the object away: the fingers should meet it together), plus 150 times the contac
 unbalanced push (unit forces along the normals, the table taking the downward part:
 fingers that all push one way roll the object off), plus 1 per mm the hand must be
 raised off the table (as the planner raises it, which moves the object in the hand);
-a candidate whose open hand
-lies in the object, or that touches with fewer than two real fingers, is refused. A
+a candidate is refused (mapping/refusals.py) when its open hand lies in the object, when
+a finger reaches the object before the palm reaches its goal on the planner's approach
+(the volar strategy would back off, a closing from the standoff would start off the
+object), when links of its open hand overlap each other (check-hand fails such a
+posture), or when it touches with fewer than two real fingers; links that overlap only
+where the fingers stop cost 20 each (a real finger closing onto the palm stops there;
+the simulator lets it through). Fingers that do not close are stowed curled, or 60 %,
+30 % or 0 % of the way. A
 coordinate search (each parameter in turn, twice) finds the best; the best 16 are
 ranked again by their worst objective with the object 1 cm off its place along each
 horizontal axis (a finger nudges it as the hand closes: a grasp that works only where

@@ -8,7 +8,8 @@ shape at every moment of a grasp, without a simulator.
 
 `lowest_points` is the lowest point, along the world vertical, of every hand link's
 shapes (palm included) over those configurations, relative to the palm origin, for a
-given palm orientation: a goal must keep them above the table. `fingertip_links` names
+given palm orientation: a goal must keep them above the table. `approach_touch` is the
+first finger the open hand brings onto the object on its way to the goal. `fingertip_links` names
 each real finger's last shaped link (a planner alternative lets only those come nearer
 the table).
 """
@@ -168,6 +169,48 @@ def _links_inside(model: CollisionModel, q: dict[str, float], geometries: list, 
                 inside.append(link)
                 break
     return inside
+
+
+APPROACH_STEP = 0.01  # [m] between the positions approach_touch tests
+
+
+def approach_touch(
+    hand: HandDescription,
+    open_q: Mapping[str, float],
+    obj: ObjectDescription,
+    T_palm_object: NDArray[np.float64],
+    a_palm: NDArray[np.float64],
+    distance: float,
+) -> tuple[str, float] | None:
+    """(the real finger, how far before the goal [m]) that first touches the object when
+    the hand, open, comes `distance` along the unit approach direction a_palm (palm
+    frame) to T_palm_object, the goal; None when no finger touches before the goal (the
+    palm may: it is meant to). Tested every APPROACH_STEP, from the far end."""
+    import coal
+
+    model = _collision_model(model_of(hand))
+    model.place(hand.with_model_followers(dict(open_q)))
+    geometries = object_coal_geometries(obj)
+    finger_of_link = hand.finger_of_link()
+    fingers = [
+        (finger, shape, T_root_shape)
+        for link, shape, T_root_shape in model.shapes()
+        if (finger := finger_of_link.get(link)) not in (None, PALM)
+    ]
+    T_root_palm = model.T_root_frame(hand.palm_frame)
+    steps = max(round(distance / APPROACH_STEP), 1)
+    for d in np.linspace(distance, 0.0, steps + 1)[:-1]:
+        T_shifted = T_palm_object.copy()
+        T_shifted[:3, 3] += d * np.asarray(a_palm, dtype=float)
+        T_root_object = T_root_palm @ T_shifted
+        tf_object = coal.Transform3s(T_root_object[:3, :3], T_root_object[:3, 3])
+        for finger, shape, T_root_shape in fingers:
+            tf = coal.Transform3s(T_root_shape[:3, :3], T_root_shape[:3, 3])
+            for geometry in geometries:
+                request, result = coal.CollisionRequest(), coal.CollisionResult()
+                if coal.collide(shape, tf, geometry, tf_object, request, result):
+                    return finger, float(d)
+    return None
 
 
 def closing_configurations(
