@@ -65,7 +65,7 @@ from graspframe.strategy.held_check import HeldTest
 from graspframe.strategy.planner import PlanningError
 
 ROBUST_CANDIDATES = 16  # re-ranked by their worst objective with the object shifted
-HELD_TRIALS = 6  # candidates tried with physics, best first
+HELD_TRIALS = 10  # candidates tried with physics (about 1 s each when not held)
 
 
 @dataclass
@@ -183,26 +183,28 @@ def synthesize(
 
 
 def _distinct(ranked: Sequence[Evaluated]) -> list[Evaluated]:
-    """The candidates, best first, one per distinct (fingers, aperture, close, spread,
-    standoff, thumb placing): what fails in physics is mostly one of these (fingers
-    spread round a small object tip it over whatever the roll), so a failed held test
-    asks for another of them."""
-    seen, kept = set(), []
+    """The candidates for the held trials, best first: first the best of each distinct
+    (fingers, thumb placing, standoff), then the best of each distinct (fingers, roll,
+    aperture, close, spread, standoff, thumb placing) not yet taken. What fails in physics
+    is mostly the fingers' arrangement (a thumb hanging below the palm sweeps a light
+    object over whatever the roll or the aperture), so a failed held test asks first for
+    another arrangement, then for another roll or aperture of one."""
+    coarse_seen: set = set()
+    fine_seen: set = set()
+    first, second = [], []
     for e in ranked:
         c = e.choice
-        key = (
-            c.fingers,
-            c.roll_deg,
-            c.open_fraction,
-            c.close_fraction,
-            c.spread,
-            c.standoff,
-            c.thumb,
-        )
-        if key not in seen:
-            seen.add(key)
-            kept.append(e)
-    return kept
+        coarse = (c.fingers, c.thumb, c.standoff)
+        fine = (*coarse, c.roll_deg, c.open_fraction, c.close_fraction, c.spread)
+        if fine in fine_seen:
+            continue
+        fine_seen.add(fine)
+        if coarse not in coarse_seen:
+            coarse_seen.add(coarse)
+            first.append(e)
+        else:
+            second.append(e)
+    return first + second
 
 
 def _measured(
