@@ -49,6 +49,7 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
+from itertools import zip_longest
 
 import numpy as np
 from numpy.typing import NDArray
@@ -183,28 +184,30 @@ def synthesize(
 
 
 def _distinct(ranked: Sequence[Evaluated]) -> list[Evaluated]:
-    """The candidates for the held trials, best first: first the best of each distinct
-    (fingers, thumb placing, standoff), then the best of each distinct (fingers, roll,
-    aperture, close, spread, standoff, thumb placing) not yet taken. What fails in physics
-    is mostly the fingers' arrangement (a thumb hanging below the palm sweeps a light
-    object over whatever the roll or the aperture), so a failed held test asks first for
-    another arrangement, then for another roll or aperture of one."""
-    coarse_seen: set = set()
-    fine_seen: set = set()
-    first, second = [], []
+    """The candidates for the held trials, best first, one per distinct (fingers, roll,
+    aperture, close, spread, standoff, thumb placing), taken in turn from two queues:
+    the next best of any arrangement, and the best of an arrangement (the closing
+    fingers, the thumb placing and the standoff) not tried yet. What fails in physics is
+    often the arrangement (a thumb hanging below the palm sweeps a light object over
+    whatever the roll or the aperture), sometimes only the roll or the aperture."""
+    seen: set = set()
+    best, new_arrangement = [], []
+    arrangements: set = set()
     for e in ranked:
         c = e.choice
-        coarse = (c.fingers, c.thumb, c.standoff)
-        fine = (*coarse, c.roll_deg, c.open_fraction, c.close_fraction, c.spread)
-        if fine in fine_seen:
+        arrangement = (c.fingers, c.thumb, c.standoff)
+        key = (*arrangement, c.roll_deg, c.open_fraction, c.close_fraction, c.spread)
+        if key in seen:
             continue
-        fine_seen.add(fine)
-        if coarse not in coarse_seen:
-            coarse_seen.add(coarse)
-            first.append(e)
-        else:
-            second.append(e)
-    return first + second
+        seen.add(key)
+        best.append(e)
+        if arrangement not in arrangements:
+            arrangements.add(arrangement)
+            new_arrangement.append(e)
+    kept: list[Evaluated] = []
+    for pair in zip_longest(best, new_arrangement[1:]):
+        kept += [e for e in pair if e is not None and e not in kept]
+    return kept
 
 
 def _measured(

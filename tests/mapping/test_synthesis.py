@@ -126,23 +126,25 @@ def test_without_tables_drops_a_table_and_its_subtables_only():
     assert tomllib.loads(kept) == {"a": {"x": 1}, "b": {"w": 4}}
 
 
-def test_held_trials_try_another_finger_arrangement_before_another_roll():
+def test_held_trials_alternate_the_next_best_and_another_finger_arrangement():
     from graspframe.mapping.candidates import Choice, Evaluated
     from graspframe.mapping.synthesis import _distinct
 
     all_four, pinch = ("f1", "f2", "thumb"), ("f1", "thumb")
-    ranked = [
-        Evaluated(Choice(all_four, roll_deg=0.0), None, 10.0),  # type: ignore[arg-type]
-        Evaluated(Choice(all_four, roll_deg=45.0), None, 11.0),  # type: ignore[arg-type]
-        Evaluated(Choice(all_four, roll_deg=45.0, shift_x=0.01), None, 12.0),  # type: ignore[arg-type]
-        Evaluated(Choice(pinch, roll_deg=0.0), None, 13.0),  # type: ignore[arg-type]
-        Evaluated(Choice(all_four, roll_deg=0.0, standoff=0.03), None, 14.0),  # type: ignore[arg-type]
+    choices = [
+        Choice(all_four, roll_deg=0.0),
+        Choice(all_four, roll_deg=45.0),
+        Choice(all_four, roll_deg=45.0, shift_x=0.01),  # a mere shift: no new trial
+        Choice(all_four, roll_deg=90.0),
+        Choice(pinch, roll_deg=0.0),
+        Choice(all_four, roll_deg=0.0, standoff=0.03),
     ]
+    ranked = [Evaluated(c, None, float(k)) for k, c in enumerate(choices)]  # type: ignore[arg-type]
     order = [(e.choice.fingers, e.choice.roll_deg, e.choice.standoff) for e in _distinct(ranked)]
-    # the best of each arrangement first, then the next roll; a mere shift is no new trial
     assert order == [
         (all_four, 0.0, 0.0),
-        (pinch, 0.0, 0.0),
-        (all_four, 0.0, 0.03),
+        (pinch, 0.0, 0.0),  # the best of another arrangement, second
         (all_four, 45.0, 0.0),
+        (all_four, 0.0, 0.03),
+        (all_four, 90.0, 0.0),
     ]
