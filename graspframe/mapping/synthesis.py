@@ -205,8 +205,12 @@ def _distinct(ranked: Sequence[Evaluated]) -> list[Evaluated]:
             arrangements.add(arrangement)
             new_arrangement.append(e)
     kept: list[Evaluated] = []
+    taken: set[int] = set()  # by identity: comparing candidates field by field is slow
     for pair in zip_longest(best, new_arrangement[1:]):
-        kept += [e for e in pair if e is not None and e not in kept]
+        for e in pair:
+            if e is not None and id(e) not in taken:
+                taken.add(id(e))
+                kept.append(e)
     return kept
 
 
