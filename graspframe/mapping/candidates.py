@@ -409,13 +409,16 @@ class CandidateSpace:
         return max(costs)
 
     def search(self) -> list[Evaluated]:
-        """The coordinate search from each of up to STARTS thumb placings (a thumb turned
-        into opposition needs the object elsewhere in the palm: one start cannot walk
-        there a parameter at a time); every candidate evaluated, best first."""
+        """The coordinate search from each of up to STARTS thumb placings, each with the
+        object where it sits best in the palm for that placing (a thumb turned into
+        opposition needs the object elsewhere in the palm, and every step there alone
+        is refused: the thumb in the object); every candidate evaluated, best first."""
         thumbs = self.thumb_values()
         starts = [thumbs[0], thumbs[len(thumbs) // 2], thumbs[-1]][:STARTS]
         for thumb in dict.fromkeys(starts):
-            best = self.evaluate(replace(self.initial(), thumb=thumb))
+            start = replace(self.initial(), thumb=thumb)
+            centres = [replace(start, shift_x=x, shift_y=y) for x in SHIFTS_X for y in SHIFTS_Y]
+            best = min((self.evaluate(c) for c in centres), key=lambda e: e.cost)
             for _ in range(PASSES):
                 for axis in range(len(self.axes(best.choice))):
                     # each parameter varied about the best so far

@@ -33,7 +33,8 @@ posture), or when it touches with fewer than two real fingers; links that overla
 where the fingers stop cost 20 each (a real finger closing onto the palm stops there;
 the simulator lets it through). Fingers that do not close are stowed curled, or 60 %,
 30 % or 0 % of the way. A
-coordinate search (each parameter in turn, twice) finds the best; the best 16 are
+coordinate search (each parameter in turn, twice, from three thumb placings, each with
+the object where it sits best in the palm for it) finds the best; the best 16 are
 ranked again by their worst objective with the object 1 cm off its place along each
 horizontal axis (a finger nudges it as the hand closes: a grasp that works only where
 the object stands exactly is fragile); then the best candidates, in that order, go

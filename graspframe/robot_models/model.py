@@ -138,6 +138,8 @@ class CollisionModel:
         self.link_of_shape = [
             self.model.frames[g.parentFrame].name for g in self.geometry.geometryObjects
         ]
+        self._local_points: dict[int, object] = {}  # shape index -> (n, 3) in its frame
+        self._parent_links: dict[str, str | None] = {}
         self.place({})
 
     def place(self, q_by_joint: dict[str, float]) -> None:
@@ -190,8 +192,36 @@ class CollisionModel:
                 inside.append(link)
         return inside
 
+    def local_points(self, index: int):
+        """(n, 3) [m] points bounding shape `index` (the order of shapes()) in its own
+        frame: robot_models/shapes.py's local_shape_points, computed once."""
+        if index not in self._local_points:
+            from graspframe.robot_models.shapes import local_shape_points
+
+            geometry = self.geometry.geometryObjects[index].geometry
+            self._local_points[index] = local_shape_points(geometry)
+        return self._local_points[index]
+
+    def bounding_sphere(self, index: int):
+        """(centre (3,) in the shape's frame, radius [m]) of a sphere holding shape
+        `index`, 1 mm wider (touching counts as colliding); an infinite radius for kinds
+        local_points cannot bound."""
+        import numpy as np
+
+        kind = type(self.geometry.geometryObjects[index].geometry).__name__
+        if kind not in ("Box", "Cylinder", "Sphere", "Convex", "Capsule"):
+            return np.zeros(3), np.inf
+        points = self.local_points(index)
+        centre = 0.5 * (points.min(axis=0) + points.max(axis=0))
+        return centre, float(np.linalg.norm(points - centre, axis=1).max()) + 0.001
+
     def parent_link(self, link: str) -> str | None:
         """The link a link hangs from (through its joint), None for the root."""
+        if link not in self._parent_links:
+            self._parent_links[link] = self._find_parent_link(link)
+        return self._parent_links[link]
+
+    def _find_parent_link(self, link: str) -> str | None:
         frame = self.model.frames[self.model.getFrameId(link)]
         parent_frame = self.model.frames[frame.parentFrame]
         while parent_frame.type != self._pin.FrameType.BODY and parent_frame.name != "universe":
@@ -204,15 +234,23 @@ class CollisionModel:
         """Pairs of distinct links whose shapes intersect, except adjacent links (a joint
         joins them, their shapes meet by design) and the pairs in `ignore`."""
         import coal
+        import numpy as np
 
         placed = list(self.shapes())
+        spheres = [self.bounding_sphere(index) for index in range(len(placed))]
+        centres = np.array(
+            [T[:3, :3] @ c + T[:3, 3] for (_l, _s, T), (c, _r) in zip(placed, spheres, strict=True)]
+        ).reshape(-1, 3)
+        radii = np.array([r for _c, r in spheres])
         hits: set[tuple[str, str]] = set()
         for i in range(len(placed)):
+            # bounding spheres apart: the shapes are (the cheap test first)
+            apart = np.linalg.norm(centres - centres[i], axis=1) > radii + radii[i]
             for j in range(i + 1, len(placed)):
                 link_a, shape_a, T_a = placed[i]
                 link_b, shape_b, T_b = placed[j]
                 pair = frozenset((link_a, link_b))
-                if link_a == link_b or pair in ignore:
+                if apart[j] or link_a == link_b or pair in ignore:
                     continue
                 if self.parent_link(link_a) == link_b or self.parent_link(link_b) == link_a:
                     continue

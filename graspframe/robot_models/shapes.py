@@ -203,9 +203,15 @@ def shape_points(shape, T) -> np.ndarray:
     """Points bounding a collision shape (its mesh's vertices), in the frame T maps
     into. A sphere gives its extreme points along that frame's axes instead (exact for
     the lowest point along any of those axes; their mean is its centre)."""
+    return local_shape_points(shape) @ T[:3, :3].T + T[:3, 3]
+
+
+def local_shape_points(shape) -> np.ndarray:
+    """shape_points in the shape's own frame (meshing a shape is the slow part: callers
+    that place one shape many times keep these, see CollisionModel.local_points)."""
     if type(shape).__name__ == "Sphere":
-        return np.concatenate([np.eye(3), -np.eye(3)]) * shape.radius + T[:3, 3]
+        return np.concatenate([np.eye(3), -np.eye(3)]) * shape.radius
     mesh = geometry_mesh(shape, sections=RING_SECTIONS)
     if mesh is None:
-        return T[:3, 3].reshape(1, 3)
-    return np.asarray(mesh.vertices) @ T[:3, :3].T + T[:3, 3]
+        return np.zeros((1, 3))
+    return np.asarray(mesh.vertices, dtype=float)

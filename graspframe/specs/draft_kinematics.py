@@ -116,15 +116,13 @@ class Kinematics:
 
     def link_points(self, links: Sequence[str]) -> NDArray[np.float64]:
         """(N, 3) the collision shapes' points of `links`, in the palm link's frame."""
-        from graspframe.robot_models.shapes import shape_points
-
         T_palm_root = np.linalg.inv(self.collision.T_root_frame(self.palm_link))
         wanted = set(links)
-        points = [
-            shape_points(shape, T_palm_root @ T_root_shape)
-            for link, shape, T_root_shape in self.collision.shapes()
-            if link in wanted
-        ]
+        points = []
+        for index, (link, _shape, T_root_shape) in enumerate(self.collision.shapes()):
+            if link in wanted:
+                T = T_palm_root @ T_root_shape
+                points.append(self.collision.local_points(index) @ T[:3, :3].T + T[:3, 3])
         return np.vstack(points) if points else np.zeros((0, 3))
 
 

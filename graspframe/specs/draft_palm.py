@@ -92,7 +92,7 @@ def palm_frame(
             kin, palm_links, centre, R, height, middle, local[:, :2].min(axis=0),
             local[:, :2].max(axis=0),
         )  # fmt: skip
-        lo, hi = _clear_of_fingers(kin, fingers, joints, centre, R, height, middle, lo, hi)
+        lo, hi = _clear_of_fingers(kin, fingers, thumb, joints, centre, R, height, middle, lo, hi)
         size = np.maximum(hi - lo, MIN_PAD_SIDE)
         origin = centre + R @ np.array([middle[0], middle[1], height])
         pad_centre = np.array(
@@ -109,6 +109,7 @@ PROBE_DEPTH = 0.0105  # [m] the palm must be solid this far below its frame's or
 PROBE_STEP = 0.003  # [m] the grid of origins tried
 PAD_CLEARANCE = 0.002  # [m] finger shapes stay this far from the pad
 CURL_FRACTIONS = (0.0, 0.25, 0.5, 1.0)
+PLACING_FRACTIONS = (0.0, 0.5, 1.0)  # of a placing joint's range, lower to upper
 
 
 class _Solids:
@@ -173,6 +174,7 @@ def _solid_below(
 def _clear_of_fingers(
     kin: Kinematics,
     fingers: Mapping[str, DraftFinger],
+    thumb: str | None,
     joints: Joints,
     centre: NDArray[np.float64],
     R: NDArray[np.float64],
@@ -182,7 +184,8 @@ def _clear_of_fingers(
     hi: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The pad's (lo, hi) corners (palm-frame x, y [m]) cut back, edge by edge, until no
-    finger shape, at rest or curled (CURL_FRACTIONS of the way closed), comes within
+    finger shape, at rest or curled (CURL_FRACTIONS of the way closed), the thumb at
+    any placing (PLACING_FRACTIONS of its joints' ranges), comes within
     PAD_CLEARANCE of it (the pad is 2 mm thick on the palm surface); the pad keeps
     `middle` inside."""
     finger_links = [link for f in fingers.values() for link in f.links]
@@ -192,10 +195,19 @@ def _clear_of_fingers(
         for name in finger.flexion:
             joint = joints[name]
             closed[name] = joint.upper if finger.closing_sign[name] > 0 else joint.lower
+    # the thumb turns into opposition over the palm (the other fingers' spread keeps
+    # them at its edge, and sweeping it would leave a Barrett hand a strip of a pad)
+    placing = list(fingers[thumb].placing) if thumb is not None and thumb in fingers else []
     samples = []
-    for t in CURL_FRACTIONS:  # the fingers as they curl: their knuckles turn near the pad
-        kin.place({j: rest[j] + t * (closed[j] - rest[j]) for j in rest})
-        samples.append(_Solids(kin, finger_links).samples)
+    # the fingers as they curl (their knuckles turn near the pad), the thumb's placing
+    # joints at their lower limits, their middles and their upper limits
+    for t in CURL_FRACTIONS:
+        curled = {j: rest[j] + t * (closed[j] - rest[j]) for j in rest}
+        for p in PLACING_FRACTIONS:
+            for name in placing:
+                curled[name] = joints[name].lower + p * (joints[name].upper - joints[name].lower)
+            kin.place(curled)
+            samples.append(_Solids(kin, finger_links).samples)
     kin.place(rest)
     points = (np.vstack(samples) - centre) @ R
     near = points[np.abs(points[:, 2] - height) <= 0.001 + PAD_CLEARANCE]

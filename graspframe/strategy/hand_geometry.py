@@ -29,7 +29,7 @@ from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.objects import ObjectDescription
 from graspframe.model_files.urdf_model import UrdfModel
 from graspframe.robot_models.model import CollisionModel, model_of
-from graspframe.robot_models.shapes import object_coal_geometries, shape_points
+from graspframe.robot_models.shapes import object_coal_geometries
 
 SWEEP_SAMPLES = 16  # configurations between open and closed
 
@@ -237,8 +237,9 @@ def lowest_points(
     for q in configurations:
         model.place(q)
         T_palm_root = inv_T(model.T_root_frame(hand.palm_frame))
-        for link, shape, T_root_shape in model.shapes():
-            points_palm = shape_points(shape, T_palm_root @ T_root_shape)
+        for index, (link, shape, T_root_shape) in enumerate(model.shapes()):
+            T_palm_shape = T_palm_root @ T_root_shape
+            points_palm = model.local_points(index) @ T_palm_shape[:3, :3].T + T_palm_shape[:3, 3]
             if type(shape).__name__ == "Sphere":  # lowest point of a sphere is exact
                 centre_world_z = float((R_world_palm @ points_palm.mean(axis=0))[2])
                 height = centre_world_z - shape.radius

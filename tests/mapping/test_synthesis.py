@@ -18,6 +18,7 @@ from graspframe.specs import load_spec
 
 ROOT = Path(__file__).resolve().parents[2]
 BARRETT_URDF = ROOT / "robots" / "barrett" / "barrett.urdf"
+KARLSRUHE_URDF = ROOT / "robots" / "karlsruhe" / "karlsruhe.urdf"
 GRIPPER_URDF = (
     ROOT
     / "docs/examples/graspframe-parallel-gripper/graspframe_parallel_gripper/parallel_gripper.urdf"
@@ -52,6 +53,23 @@ def test_the_barrett_drafted_from_its_urdf_holds_a_small_cylinder_as_faithfully(
     preshape = load_spec(spec).preshape_for(HumanGrasp.SMALL_DIAMETER)
     assert preshape.design_object is not None
     assert data["preshapes"]["small_diameter"]["delta"] == pytest.approx(max(preshape.delta, 0.0))
+
+
+def test_the_karlsruhe_drafted_from_its_urdf_holds_a_ball_with_its_thumb_opposed(tmp_path, backend):
+    """The power sphere needs the thumb turned into opposition (90 deg) and the ball off
+    the palm's middle towards the fingers: no single step of the coordinate search gets
+    there from the palm's middle (the upright thumb is in the ball), so each thumb
+    placing starts where the object sits best for it. The result holds."""
+    spec = tmp_path / "karlsruhe.toml"
+    draft_spec_file(KARLSRUHE_URDF, spec, REGISTRY, None)
+    written = synthesize_spec_file(spec, REGISTRY, backend, grasps=[HumanGrasp.POWER_SPHERE])
+    assert written.synthesis is not None
+    result = written.synthesis.grasps[0]
+    assert result.held, result.failure
+    assert dict(result.chosen.choice.thumb)["kh_thumb_base"] == pytest.approx(1.5708, abs=1e-3)
+    assert result.chosen.choice.shift_x > 0.0  # towards the fingers
+    assert result.measured_position_err_mm is not None
+    assert result.measured_position_err_mm < 30.0  # 43.7 predicted from the middle
 
 
 def test_check_hand_synthesize_rewrites_a_drafted_gripper_and_checks_it(tmp_path, capsys):

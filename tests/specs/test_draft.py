@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from graspframe.checks.hand import check_hand_report
+from graspframe.checks.self_collision import posture_collisions
 from graspframe.cli.commands import main
 from graspframe.common.errors import DescriptionError
 from graspframe.plugin_system.registry import default_registry
@@ -168,3 +169,27 @@ def test_a_posture_never_rounds_past_a_joint_limit():
     lines = posture_table("p", "open", {"12": -0.349}, {"12": joint})
     value = float(lines[1].split("=")[1])
     assert math.radians(value) >= -0.349 and value == pytest.approx(-19.99, abs=0.01)
+
+
+@pytest.mark.parametrize("urdf", ["karlsruhe", "leap_hand/leap_hand_right.urdf"])
+def test_the_drafted_pad_clears_the_thumb_at_every_placing(urdf, tmp_path):
+    """A thumb turned into opposition lies over the palm (the Karlsruhe's at 90 deg):
+    the drafted pad is cut back from it at any placing, not only at rest, so such a
+    posture is not a self-collision of the thumb with the pad."""
+    if urdf == "karlsruhe":
+        path = ROBOTS / "karlsruhe" / "karlsruhe.urdf"
+    else:
+        path = _vendor_dir("hands") / urdf
+    draft = draft_hand(path)
+    hand = load_spec(_written(draft, tmp_path))
+    model = CollisionModel(model_of(hand))
+    rest = draft.rest_q()
+    placing = draft.fingers["thumb"].placing
+    assert placing
+    for fraction in (0.0, 0.3, 0.7, 1.0):  # 0.3 and 0.7 are not sampled by the draft
+        q = dict(rest)
+        for name in placing:
+            joint = draft.joints[name]
+            q[name] = joint.lower + fraction * (joint.upper - joint.lower)
+        pairs = posture_collisions(model, hand.with_model_followers(q))
+        assert not [pair for pair in pairs if draft.pad_frame in pair], (fraction, pairs)
