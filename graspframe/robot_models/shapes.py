@@ -196,19 +196,14 @@ def object_coal_geometries(obj: ObjectDescription) -> list:
     return [coal_geometry(obj.shape, obj.dimensions)]
 
 
-RING_SECTIONS = 12  # sides of a cylinder's mesh in shape_points: rims sampled at 30 deg
-
-
-def shape_points(shape, T) -> np.ndarray:
-    """Points bounding a collision shape (its mesh's vertices), in the frame T maps
-    into. A sphere gives its extreme points along that frame's axes instead (exact for
-    the lowest point along any of those axes; their mean is its centre)."""
-    return local_shape_points(shape) @ T[:3, :3].T + T[:3, 3]
+RING_SECTIONS = 12  # sides of a cylinder's mesh in local_shape_points: rims at 30 deg
 
 
 def local_shape_points(shape) -> np.ndarray:
-    """shape_points in the shape's own frame (meshing a shape is the slow part: callers
-    that place one shape many times keep these, see CollisionModel.local_points)."""
+    """Points bounding a collision shape (its mesh's vertices), in its own frame. A
+    sphere gives its extreme points along the frame's axes instead (placed, exact for the
+    lowest point along any axis of the frame it is placed in; their mean is its centre).
+    Meshing is the slow part: CollisionModel.local_points keeps them per shape."""
     if type(shape).__name__ == "Sphere":
         return np.concatenate([np.eye(3), -np.eye(3)]) * shape.radius
     mesh = geometry_mesh(shape, sections=RING_SECTIONS)
