@@ -82,6 +82,8 @@ class Evaluated:
     orientation_err_deg: float = math.nan
     touched: tuple[str, ...] = ()
     refused: str | None = None
+    unbalanced: float = math.nan  # the contacts' unbalanced push (see imbalance)
+    epsilon: float = math.nan  # the contacts' Ferrari-Canny L1 epsilon (see epsilon_of)
 
 
 def roles_of(hand: HandDescription) -> tuple[HandDraft, dict[str, str]]:
@@ -140,6 +142,12 @@ class CandidateSpace:
         # one collision model for every candidate (the preshapes do not change the model)
         self.fingertip_height = fingertip_height(hand, hand.fingertip_frames)
         self.collision_model = CollisionModel(model_of(hand))
+        self.spreads = any(
+            j in draft.rest_q() and j not in draft.held_at_rest
+            for finger, draft_name in self.draft_of.items()
+            if finger != self.thumb
+            for j in draft.fingers[draft_name].placing
+        )
 
     # -- candidates ---------------------------------------------------------------------
 
@@ -248,6 +256,11 @@ class CandidateSpace:
     # -- evaluating ----------------------------------------------------------------------
 
     def evaluate(self, choice: Choice) -> Evaluated:
+        # parameters that change nothing on this hand take one value: one candidate
+        if set(choice.fingers) == set(self.finger_sets()[0]):
+            choice = replace(choice, stow_fraction=1.0)  # no finger stowed
+        if not self.spreads:
+            choice = replace(choice, spread=0.0)  # no finger but the thumb has placing joints
         if choice in self.cache:
             return self.cache[choice]
         result = self.score(self.preshape(choice, self.grasp.value), choice)
@@ -315,7 +328,7 @@ class CandidateSpace:
         if len(set(sweep.touched)) < 2:
             refused.append("fewer than two real fingers touch the object")
             penalty += FEW_FINGERS_COST
-        errors = (math.nan, math.nan, 0.0)
+        errors, unbalanced, epsilon = (math.nan, math.nan, 0.0), math.nan, math.nan
         if sweep.touched:
             contacts = self._contacts(
                 sweep.p_object_touch, sweep.finger_touch, T_palm_object, volar
@@ -331,6 +344,7 @@ class CandidateSpace:
             # fingers that reach the object one after the other push it off first
             stagger = max(sweep.s_touch) - min(sweep.s_touch)
             unbalanced = imbalance(contacts)
+            epsilon = epsilon_of(contacts, self.obj)
             errors = (
                 comparison.position_err_mm,
                 comparison.orientation_err_deg,
@@ -348,6 +362,8 @@ class CandidateSpace:
             position_err_mm=errors[0],
             orientation_err_deg=errors[1],
             refused="; ".join(refused) or None,
+            unbalanced=unbalanced,
+            epsilon=epsilon,
         )
         return result
 
@@ -439,6 +455,24 @@ def imbalance(contacts: Sequence[Contact]) -> float:
     net = forces.sum(axis=0)
     net[2] = max(net[2], 0.0)
     return float(np.linalg.norm(net) / max(len(forces), 1))
+
+
+def epsilon_of(contacts: Sequence[Contact], obj: ObjectDescription) -> float:
+    """The contacts' (object frame) Ferrari-Canny L1 epsilon, as every run scores its
+    grasp: the object's static friction, torques about its centroid over its half
+    largest dimension; 0 when the contacts do not close the grasp."""
+    from graspframe.metrics.quality import grasp_quality
+
+    try:
+        quality = grasp_quality(
+            [c.p for c in contacts],
+            [-np.asarray(c.n) for c in contacts],  # the contact normals point out
+            obj.static_friction,
+            torque_length=obj.largest_dimension / 2,
+        )
+    except GraspframeError:
+        return 0.0
+    return quality.epsilon_l1
 
 
 def Rz(angle: float) -> NDArray[np.float64]:

@@ -67,7 +67,7 @@ from graspframe.strategy.held_check import HeldTest
 from graspframe.strategy.planner import PlanningError
 
 ROBUST_CANDIDATES = 16  # re-ranked by their worst objective with the object shifted
-HELD_TRIALS = 10  # candidates tried with physics (about 1 s each when not held)
+HELD_TRIALS = 16  # candidates tried with physics (1 to 2 s each when not held)
 
 
 @dataclass

@@ -57,7 +57,7 @@ from graspframe.specs.draft_kinematics import (
     tip_motion,
     tip_position,
 )
-from graspframe.specs.draft_palm import palm_frame
+from graspframe.specs.draft_palm import back_of_palm, behind_the_flange, palm_frame
 
 PARALLEL_AXES = 0.8  # |cos| above which two joint axes count as parallel
 TRACKING_ERROR_AT_FORCE_LIMIT = 0.1  # [rad] the stiffness reaches the force limit here
@@ -89,6 +89,18 @@ class HandDraft:
     has_efforts: bool = True  # the URDF gives the driven joints' efforts
     held_at_rest: list[str] = field(default_factory=list)  # joints above the palm
     notes: list[str] = field(default_factory=list)
+    back_of_palm: float | None = None  # [m] behind the palm frame: a dorsal plate's face
+    behind_root: float = 0.0  # [m] the hand behind its root link's z = 0 plane (see draft_palm)
+
+    @property
+    def mount_frame(self) -> str:
+        """The link bolted to the flange: the root link, or a frame behind it when the
+        hand reaches behind the root link's frame."""
+        return f"{self.name}_mount" if self.behind_root > 0 else self.root_link
+
+    @property
+    def dorsal_frame(self) -> str:
+        return f"{self.name}_dorsal"
 
     @property
     def palm_frame(self) -> str:
@@ -291,6 +303,10 @@ def draft_hand(urdf: Path | str, name: str | None = None) -> HandDraft:
         has_efforts=bool(efforts),
         held_at_rest=held_at_rest,
         notes=draft_notes,
+        back_of_palm=back_of_palm(
+            kin, T_palmlink_palm, [link for link, _s, _T in kin.collision.shapes()]
+        ),
+        behind_root=behind_the_flange(kin, root),
     )
 
 

@@ -238,3 +238,40 @@ def _clear_of_fingers(
         else:
             break  # the point lies over the middle itself: the pad cannot clear it
     return lo, hi
+
+
+DORSAL_PLATE_SIDE = 0.064  # [m] the square plate a drafted dorsal mounting proposes
+DORSAL_PLATE_THICKNESS = 0.015  # [m]
+
+
+def back_of_palm(
+    kin: Kinematics, T_palmlink_palm: NDArray[np.float64], links: Sequence[str]
+) -> float | None:
+    """[m] how far behind the palm frame's origin (along its -z) the hand ends within the
+    square of a dorsal plate centred behind it (DORSAL_PLATE_SIDE): the plate's face goes
+    there. The hand placed at rest; None when no shape of `links` lies in that square."""
+    points = kin.link_points(links)
+    if not len(points):
+        return None
+    T_palm_palmlink = np.linalg.inv(T_palmlink_palm)
+    local = points @ T_palm_palmlink[:3, :3].T + T_palm_palmlink[:3, 3]
+    behind = local[np.all(np.abs(local[:, :2]) <= DORSAL_PLATE_SIDE / 2, axis=1)]
+    if not len(behind):
+        return None
+    return float(max(-behind[:, 2].min(), 0.0))
+
+
+FLANGE_REACH = 0.06  # [m] from the flange's axis: the arm's last link lies within this
+
+
+def behind_the_flange(kin: Kinematics, root_link: str) -> float:
+    """[m] how far the hand at rest reaches behind its root link's frame (below its
+    z = 0 plane, within FLANGE_REACH of its z axis): bolted there straight on an arm's
+    flange, that much of the hand would lie in the arm's last link. 0 when none does."""
+    T_root_palmlink = kin.collision.T_root_frame(kin.palm_link)
+    T_rootlink_root = np.linalg.inv(kin.collision.T_root_frame(root_link))
+    T = T_rootlink_root @ T_root_palmlink
+    points = kin.link_points([link for link, _s, _T in kin.collision.shapes()])
+    local = points @ T[:3, :3].T + T[:3, 3]
+    near = local[np.hypot(local[:, 0], local[:, 1]) <= FLANGE_REACH]
+    return float(max(-near[:, 2].min(), 0.0)) if len(near) else 0.0

@@ -21,6 +21,9 @@ from graspframe.specs.draft import (
     HandDraft,
 )
 from graspframe.specs.draft_kinematics import Joint
+from graspframe.specs.draft_palm import DORSAL_PLATE_SIDE, DORSAL_PLATE_THICKNESS
+
+ALUMINIUM_DENSITY = 2700.0  # [kg/m^3]
 
 GENERIC_OPENING = 0.2  # the generic wrap opens this part of the way to closed
 
@@ -62,8 +65,7 @@ def spec_text(draft: HandDraft, preshape_tables: str, grasp_map: Mapping[str, st
         f'summary = "{draft.name}: {len(draft.fingers)} fingers, {len(draft.driven())} '
         'driven joints (drafted from its URDF)"',
         f'urdf = "{draft.urdf}"',
-        "# The URDF's root link: the hand is bolted to the arm's flange there.",
-        f'mount_link = "{draft.root_link}"',
+        *_mount_lines(draft),
         f"mass = {round(draft.mass, 4):g}  # [kg] the URDF's link masses, summed",
         f'palm_frame = "{draft.palm_frame}"',
         f'palm_sensor_link = "{draft.pad_frame}"',
@@ -82,6 +84,17 @@ def spec_text(draft: HandDraft, preshape_tables: str, grasp_map: Mapping[str, st
         f"xyz = {_vector(draft.pad_centre)}",
         f"pad = {_vector(draft.pad_size)}",
     ]
+    if draft.mount_frame != draft.root_link:
+        lines += [
+            "",
+            f"# The flange's face: {draft.root_link}'s frame moved back along its -z until no "
+            "shape of the",
+            "# hand lies behind it near the axis.",
+            f"[frames.{_key(draft.mount_frame)}]",
+            f'parent = "{draft.root_link}"',
+            f"xyz = {_vector([0.0, 0.0, -draft.behind_root])}",
+        ]
+    lines += _dorsal_mounting(draft)
     for finger in draft.fingers.values():
         if finger.tip_offset is not None:
             link, xyz = finger.tip_offset
@@ -134,6 +147,50 @@ def spec_text(draft: HandDraft, preshape_tables: str, grasp_map: Mapping[str, st
     ]
     lines += [f'{grasp} = "{preshape}"' for grasp, preshape in grasp_map.items()]
     return "\n".join(lines) + "\n"
+
+
+def _mount_lines(draft: HandDraft) -> list[str]:
+    if draft.mount_frame == draft.root_link:
+        return [
+            "# The URDF's root link: the hand is bolted to the arm's flange there.",
+            f'mount_link = "{draft.root_link}"',
+        ]
+    return [
+        f"# Bolted to the arm's flange at its root link, {1000 * draft.behind_root:.1f} mm "
+        "further back: the hand",
+        f"# reaches that far behind {draft.root_link}'s frame (see [frames.{draft.mount_frame}]).",
+        f'mount_link = "{draft.mount_frame}"',
+    ]
+
+
+def _dorsal_mounting(draft: HandDraft) -> list[str]:
+    """A second mounting, tried when the arm finds no path with the hand bolted at its
+    root link: a plate on the back of the palm, the flange's axis along the palm normal
+    (an anthropomorphic hand bolted at its wrist has the arm's wrist below the palm in
+    side grasps of short objects). None when the palm has no shape behind its frame."""
+    if draft.back_of_palm is None:
+        return []
+    side, thick = DORSAL_PLATE_SIDE, DORSAL_PLATE_THICKNESS
+    mass = ALUMINIUM_DENSITY * side * side * thick
+    return [
+        "",
+        "# A mounting tried when the arm finds no path with the hand bolted at its root",
+        "# link: a plate on the back of the palm (an adapter, not part of the hand:",
+        f"# {1000 * side:g} x {1000 * side:g} x {1000 * thick:g} mm of aluminium, our choice), "
+        "centred behind the palm",
+        "# frame, its face on the hand's deepest point there, the flange's axis along the",
+        "# palm normal.",
+        f"[frames.{_key(draft.dorsal_frame)}]",
+        f'parent = "{draft.palm_frame}"',
+        f"xyz = {_vector([0.0, 0.0, -(draft.back_of_palm + thick)])}",
+        "",
+        "[mountings.dorsal]",
+        f'frame = "{draft.dorsal_frame}"',
+        f"mass = {round(mass, 3):g}",
+        'summary = "a plate on the back of the palm, the flange axis along the palm normal"',
+        f'adapter = [{{ shape = "box", size = {_vector([side, side, thick])}, '
+        f"xyz = {_vector([0.0, 0.0, thick / 2])} }}]",
+    ]
 
 
 def posture_table(
