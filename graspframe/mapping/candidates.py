@@ -14,15 +14,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspframe.common.contacts import OBJECT, Contact
-from graspframe.common.errors import GraspframeError
 from graspframe.common.grasps import PALM, HumanGrasp
 from graspframe.common.transforms import inv_T, make_T
 from graspframe.hal.descriptions import DesignObject, HandDescription, HandPreshape
 from graspframe.hal.objects import ObjectDescription
+from graspframe.mapping.grip import epsilon_of, gripping, imbalance
 from graspframe.mapping.refusals import approach_refusal, below_table, self_collisions
 from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_contacts
 from graspframe.robot_models.model import CollisionModel, model_of
-from graspframe.specs.draft import HandDraft, draft_hand
+from graspframe.specs.draft import HandDraft
 from graspframe.strategy.planner import PlannerParams, object_in_palm
 
 ROLLS_DEG = (0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0)
@@ -84,24 +84,6 @@ class Evaluated:
     refused: str | None = None
     unbalanced: float = math.nan  # the contacts' unbalanced push (see imbalance)
     epsilon: float = math.nan  # the contacts' Ferrari-Canny L1 epsilon (see epsilon_of)
-
-
-def roles_of(hand: HandDescription) -> tuple[HandDraft, dict[str, str]]:
-    """The URDF's drafted roles for `hand` and the draft finger of each of the hand's
-    real fingers (matched by their links)."""
-    draft = draft_hand(hand.model_path)
-    names = {}
-    for finger, links in hand.real_fingers.items():
-        if finger == PALM:
-            continue
-        best = max(draft.fingers.values(), key=lambda f: len(set(f.links) & set(links)))
-        if not set(best.links) & set(links):
-            raise GraspframeError(
-                f"hand {hand.name!r}: real finger {finger!r} holds none of the URDF's finger "
-                "links; the synthesis needs its fingers to be the URDF's chains"
-            )
-        names[finger] = best.name
-    return draft, names
 
 
 class CandidateSpace:
@@ -329,10 +311,20 @@ class CandidateSpace:
             refused.append("fewer than two real fingers touch the object")
             penalty += FEW_FINGERS_COST
         errors, unbalanced, epsilon = (math.nan, math.nan, 0.0), math.nan, math.nan
+        contacts = []
         if sweep.touched:
-            contacts = self._contacts(
-                sweep.p_object_touch, sweep.finger_touch, T_palm_object, volar
+            # a finger's touch on a face that looks up holds nothing (mapping/grip.py)
+            contacts = gripping(
+                self._contacts(sweep.p_object_touch, sweep.finger_touch, T_palm_object, volar)
             )
+            gripped = {c.real_finger for c in contacts if c.real_finger != PALM}
+            if len(set(sweep.touched)) >= 2 and len(gripped) < 2:
+                refused.append(
+                    f"{len(gripped)} real finger{'' if len(gripped) == 1 else 's'} grip the "
+                    "object; the other touches press on a face that looks up"
+                )
+                penalty += FEW_FINGERS_COST
+        if contacts:
             robot = virtual_fingers_from_contacts(contacts)
             comparison = compare(
                 robot,
@@ -443,36 +435,6 @@ class CandidateSpace:
                         if evaluated.cost < best.cost:
                             best = evaluated
         return sorted(self.cache.values(), key=lambda e: e.cost)
-
-
-def imbalance(contacts: Sequence[Contact]) -> float:
-    """How much the contacts, each pushing with a unit force along its normal into the
-    object, push it one way: |sum of the forces| / their count (0: they balance, 1: all
-    push the same way), the table taking what pushes the object down (object frame z is
-    the world's up for an object standing on it)."""
-    forces = np.array([c.f for c in contacts], dtype=float).reshape(-1, 3)
-    forces /= np.maximum(np.linalg.norm(forces, axis=1, keepdims=True), 1e-12)
-    net = forces.sum(axis=0)
-    net[2] = max(net[2], 0.0)
-    return float(np.linalg.norm(net) / max(len(forces), 1))
-
-
-def epsilon_of(contacts: Sequence[Contact], obj: ObjectDescription) -> float:
-    """The contacts' (object frame) Ferrari-Canny L1 epsilon, as every run scores its
-    grasp: the object's static friction, torques about its centroid over its half
-    largest dimension; 0 when the contacts do not close the grasp."""
-    from graspframe.metrics.quality import grasp_quality
-
-    try:
-        quality = grasp_quality(
-            [c.p for c in contacts],
-            [-np.asarray(c.n) for c in contacts],  # the contact normals point out
-            obj.static_friction,
-            torque_length=obj.largest_dimension / 2,
-        )
-    except GraspframeError:
-        return 0.0
-    return quality.epsilon_l1
 
 
 def Rz(angle: float) -> NDArray[np.float64]:

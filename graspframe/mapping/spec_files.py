@@ -19,7 +19,7 @@ from graspframe.common.errors import InputError
 from graspframe.common.files import atomic_write
 from graspframe.common.grasps import HumanGrasp
 from graspframe.hal.drivers import Backend
-from graspframe.mapping.candidates import roles_of
+from graspframe.mapping.roles import roles_of
 from graspframe.mapping.synthesis import Synthesis, synthesize
 from graspframe.mapping.tables import preshape_tables
 from graspframe.specs.draft import HandDraft, draft_hand

@@ -17,7 +17,8 @@ preshapes built from the joint roles of the hand's URDF (specs/draft.py):
 Each candidate is closed kinematically on the object (strategy/hand_geometry.py's
 closing sweep: each finger stops where one of its links first touches it, Pinocchio
 and coal); its contacts, projected on the object's surface, give the robot's virtual
-fingers, compared with the human reference's (metrics/virtual_fingers.py). The
+fingers, compared with the human reference's (metrics/virtual_fingers.py); a finger's
+touch on a face that looks up grips nothing and is left out (mapping/grip.py). The
 objective is the virtual-finger position error [mm] plus the orientation error [deg],
 plus 30 per virtual finger more or fewer than the human's, plus 60 per whole closing
 between the first finger's touch and the last's (a finger that arrives first pushes
@@ -29,7 +30,7 @@ a candidate is refused (mapping/refusals.py) when its open hand lies in the obje
 a finger reaches the object before the palm reaches its goal on the planner's approach
 (the volar strategy would back off, a closing from the standoff would start off the
 object), when links of its open hand overlap each other (check-hand fails such a
-posture), or when it touches with fewer than two real fingers; links that overlap only
+posture), or when fewer than two real fingers touch or grip; links that overlap only
 where the fingers stop cost 20 each (a real finger closing onto the palm stops there;
 the simulator lets it through). Fingers that do not close are stowed curled, or 60 %,
 30 % or 0 % of the way. A
@@ -61,7 +62,8 @@ from graspframe.common.grasps import HUMAN_HAND, HumanGrasp
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.drivers import Backend
 from graspframe.hal.objects import ObjectDescription
-from graspframe.mapping.candidates import CandidateSpace, Evaluated, roles_of
+from graspframe.mapping.candidates import CandidateSpace, Evaluated
+from graspframe.mapping.roles import roles_of
 from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_contacts
 from graspframe.strategy.held_check import HeldTest
 from graspframe.strategy.planner import PlanningError

@@ -193,3 +193,34 @@ def test_the_drafted_pad_clears_the_thumb_at_every_placing(urdf, tmp_path):
             q[name] = joint.lower + fraction * (joint.upper - joint.lower)
         pairs = posture_collisions(model, hand.with_model_followers(q))
         assert not [pair for pair in pairs if draft.pad_frame in pair], (fraction, pairs)
+
+
+@pytest.mark.parametrize("urdf", ["karlsruhe", "leap", "leap renamed and rerooted"])
+def test_a_drafted_hand_mounts_on_an_arm_straight_and_through_a_dorsal_plate(urdf, tmp_path):
+    """Bolted at its root link, the LEAP hand's palm reaches 2 mm behind the root's frame,
+    into the arm's last link: the draft moves the flange's face back by that much. It
+    proposes a plate on the back of the palm as a second mounting. Both clear the KUKA
+    and the drafted palm frame is where the plate's flange axis points."""
+    from graspframe.robot_models.mounting import check_mounts, mount_overlaps
+
+    if urdf == "karlsruhe":
+        path = ROBOTS / "karlsruhe" / "karlsruhe.urdf"
+    else:
+        path = _vendor_dir("hands") / "leap_hand" / "leap_hand_right.urdf"
+        if "rerooted" in urdf:
+            path = _renamed_and_rerooted(path, tmp_path)
+    draft = draft_hand(path)
+    hand = load_spec(_written(draft, tmp_path))
+    robots = check_mounts(default_registry().get_arm("kuka"), hand)
+    assert set(robots) == {None, "dorsal"}
+    for robot in robots.values():
+        touching = mount_overlaps(robot, tolerance=-1.0)
+        assert not touching or touching[0].depth <= 0.0005, touching[0].describe()
+    if urdf != "karlsruhe":
+        assert draft.behind_root > 0.001 and hand.root_link == draft.mount_frame
+    # Through the plate, the flange's axis is the palm normal.
+    model = CollisionModel(model_of(hand))
+    T_root_palm = model.T_root_frame(hand.palm_frame)
+    T_root_plate = model.T_root_frame(draft.dorsal_frame)
+    assert T_root_palm[:3, 2] @ T_root_plate[:3, 2] > 0.999
+    assert draft.back_of_palm is not None and draft.back_of_palm > 0.01
