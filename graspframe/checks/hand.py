@@ -294,9 +294,13 @@ def _mount_check(hand: HandDescription, arm: ArmDescription) -> CheckResult:
 
     result = CheckResult(
         f"mounted on {arm.name}: no hand link inside an arm link (at most "
-        f"{1000 * MOUNT_OVERLAP_TOLERANCE:.0f} mm; bolted straight on and through each "
+        f"{1000 * MOUNT_OVERLAP_TOLERANCE:.0f} mm; bolted straight on or through a "
         "mounting, the arm at home, every preshape open and closed)"
     )
+    # The mounts are alternatives (robot_models/mounting.py's check_mounts): one that
+    # overlaps is not used, a problem only when every mount overlaps.
+    overlapping: list[str] = []
+    usable = 0
     for mounting in (None, *hand.mountings):
         how = "bolted straight on" if mounting is None else f"through its {mounting} mounting"
         try:
@@ -308,8 +312,12 @@ def _mount_check(hand: HandDescription, arm: ArmDescription) -> CheckResult:
         deepest = (
             f"deepest: {touching[0].describe()}" if touching else "no hand link touches the arm"
         )
-        result.measured.append(f"{how}: {deepest}")
-        result.problems += [f"{how}: {overlap.describe()}" for overlap in mount_overlaps(robot)]
+        overlaps = [f"{how}: {overlap.describe()}" for overlap in mount_overlaps(robot)]
+        result.measured.append(f"{how}: {deepest}" + ("; not used" if overlaps else ""))
+        overlapping += overlaps
+        usable += not overlaps
+    if not usable:
+        result.problems += overlapping
     return result
 
 

@@ -251,6 +251,21 @@ def check_mount(robot: MountedRobot) -> None:
 
 def check_mounts(arm: ArmDescription, hand: HandDescription) -> dict[str | None, MountedRobot]:
     """The hand bolted straight on (None) and through each of its mountings (by name),
-    each mounted and checked (`check_mount`): what a run, a sweep and check-hand ask
-    before anything runs. A run carries them on to its planning."""
-    return {mounting: mount(arm, hand, mounting=mounting) for mounting in (None, *hand.mountings)}
+    those whose links clear the arm's (`check_mount`): what a run and a sweep ask before
+    anything runs, and carry on to their planning. The mounts are alternatives: one that
+    overlaps is left out (a synthesised thumb curling behind the wrist into the arm's
+    last link, with a plate on the back of the palm that clears it); the first one's
+    DescriptionError when none clears."""
+    robots: dict[str | None, MountedRobot] = {}
+    refusals: list[DescriptionError] = []
+    for mounting in (None, *hand.mountings):
+        robot = mount(arm, hand, mounting=mounting, check=False)
+        try:
+            check_mount(robot)
+        except DescriptionError as exc:
+            refusals.append(exc)
+            continue
+        robots[mounting] = robot
+    if not robots:
+        raise refusals[0]
+    return robots

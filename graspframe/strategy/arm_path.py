@@ -39,7 +39,7 @@ from graspframe.hal.descriptions import ArmDescription
 from graspframe.hal.objects import ObjectDescription
 from graspframe.motion.ik import IkSolver
 from graspframe.robot_models.floating_base import mount_floating
-from graspframe.robot_models.mounting import MountedRobot, mount
+from graspframe.robot_models.mounting import MountedRobot, check_mounts
 from graspframe.strategy.held_check import HeldTest
 from graspframe.strategy.method import ExecutorParams, planned_path
 from graspframe.strategy.path_check import Rule, SegmentChecker
@@ -149,13 +149,18 @@ def choose_plan(
     by `held`) is collision-free on the arm standing at T_world_base, the hand straight
     on the flange, else through each of its mountings in turn; PlanningError listing
     every variant's reason when none is. robots: the hand already mounted, by mounting
-    (None: straight on), as `check_mounts` gives them; mounted here when not given."""
+    (None: straight on), as `check_mounts` gives them (the mounts that clear the arm);
+    mounted here when not given."""
     executor_params = executor_params or ExecutorParams()
     refused: list[str] = []
     hand, obj = target.hand, target.obj
     first = plan_grasp(target)
+    robots = robots or check_mounts(arm, hand)
     for mounting in (None, *hand.mountings):
-        robot = (robots or {}).get(mounting) or mount(arm, hand, mounting=mounting)
+        if mounting not in robots:
+            refused.append(f"{_mounted(mounting)}: its links overlap the arm's (check-hand)")
+            continue
+        robot = robots[mounting]
         ik = IkSolver(robot)
         for variant in variants(obj, first.approach == "side"):
             variant = replace(variant, mounting=mounting)
@@ -188,6 +193,10 @@ def floating_plan(
             f"no collision-free path for the free {target.hand.name} hand: {problem}"
         )
     return CheckedPlan(plan, robot, T_world_base, executor_params=executor_params)
+
+
+def _mounted(mounting: str | None) -> str:
+    return "bolted straight on" if mounting is None else f"through the {mounting} mounting"
 
 
 def _describe(variant: Variant) -> str:

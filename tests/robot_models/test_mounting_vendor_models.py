@@ -7,6 +7,7 @@ given as a link below the file's root or as a frame; the Kinova JACO2 as shipped
 from __future__ import annotations
 
 import math
+import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -84,13 +85,21 @@ def test_a_hand_rooted_at_its_fingers_is_mounted_at_its_wrist(leap_hand_dir, tmp
             )
 
 
+def _sunk_leap_spec(leap_hand_dir: Path, folder: Path, dorsal: bool) -> Path:
+    """The LEAP example with its mount frame 30 mm up the hand, inside the palm (the palm
+    sinks into the arm), with or without its dorsal mounting."""
+    spec = LEAP_HAND_SPEC.read_text().replace("xyz = [0.0, 0.0, -0.01]", "xyz = [0.0, 0.0, 0.03]")
+    if not dorsal:
+        spec = re.sub(r"\[mountings\.dorsal\].*?\nadapter = [^\n]*\n", "", spec, flags=re.S)
+    path = folder / f"leap_sunk{'_dorsal' if dorsal else ''}.toml"
+    path.write_text(spec.replace("${LEAP_HAND_DIR}", str(leap_hand_dir)))
+    return path
+
+
 def test_a_hand_mounted_inside_itself_is_refused_naming_links_and_depth(
     leap_hand_dir, tmp_path, capsys
 ):
-    # The mount frame 30 mm up the hand, inside the palm: the palm sinks into the arm.
-    spec = LEAP_HAND_SPEC.read_text().replace("xyz = [0.0, 0.0, -0.01]", "xyz = [0.0, 0.0, 0.03]")
-    path = tmp_path / "leap_sunk.toml"
-    path.write_text(spec.replace("${LEAP_HAND_DIR}", str(leap_hand_dir)))
+    path = _sunk_leap_spec(leap_hand_dir, tmp_path, dorsal=False)
     hand = load_spec(path)
     robot_overlaps = mount_overlaps(mount(default_registry().get_arm("kuka"), hand, check=False))
     assert robot_overlaps and robot_overlaps[0].depth > 0.02
@@ -112,6 +121,25 @@ def test_a_hand_mounted_inside_itself_is_refused_naming_links_and_depth(
     report = capsys.readouterr().out
     assert "3. mounted on kuka: no hand link inside an arm link" in report
     assert "problem: bolted straight on: hand link 'palm_lower' is" in report
+
+
+def test_a_mount_that_overlaps_the_arm_is_left_for_one_that_clears_it(leap_hand_dir, tmp_path):
+    """The mounts are alternatives: the sunk LEAP hand with its dorsal plate is held by
+    the plate; check-hand says the straight mount is not used, and passes the check."""
+    from graspframe.robot_models.mounting import check_mounts
+
+    path = _sunk_leap_spec(leap_hand_dir, tmp_path, dorsal=True)
+    hand = load_spec(path)
+    assert set(check_mounts(default_registry().get_arm("kuka"), hand)) == {"dorsal"}
+    from graspframe.checks.hand import _mount_check
+
+    result = _mount_check(hand, default_registry().get_arm("kuka"))
+    assert not result.problems
+    assert any(
+        line.startswith("bolted straight on: deepest: hand link 'palm_lower'")
+        and line.endswith("; not used")
+        for line in result.measured
+    ), result.measured
 
 
 @JACO2
