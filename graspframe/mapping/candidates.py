@@ -13,6 +13,7 @@ from itertools import combinations
 import numpy as np
 from numpy.typing import NDArray
 
+from graspframe.checks.grasps import closing_problems
 from graspframe.common.contacts import OBJECT, Contact
 from graspframe.common.grasps import PALM, HumanGrasp
 from graspframe.common.transforms import inv_T, make_T
@@ -41,6 +42,7 @@ TABLE_COST, TABLE_COST_PER_MM = 100.0, 10.0
 FEW_FINGERS_COST = 300.0
 APPROACH_COST = 200.0  # a finger on the object before the palm reaches its goal
 SELF_COLLISION_COST = 200.0  # per pair of links that overlap in the open posture
+CLOSING_COST = 200.0  # closed in free space, no two fingers meet (check-hand fails it)
 # Closed, a finger that closes onto the palm or another finger stops there on the real
 # hand (the simulator lets it through): a penalty, not a refusal.
 CLOSED_OVERLAP_COST = 20.0  # per pair
@@ -307,6 +309,10 @@ class CandidateSpace:
             )
             penalty += SELF_COLLISION_COST * len(open_overlaps)
         penalty += CLOSED_OVERLAP_COST * len(closed_overlaps)
+        closing = closing_problems(hand)  # check-hand's: some fingers meet when closed
+        if closing:
+            refused.append(closing[0].split(": ", 1)[1])
+            penalty += CLOSING_COST
         if len(set(sweep.touched)) < 2:
             refused.append("fewer than two real fingers touch the object")
             penalty += FEW_FINGERS_COST

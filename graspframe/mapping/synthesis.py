@@ -30,7 +30,8 @@ a candidate is refused (mapping/refusals.py) when its open hand lies in the obje
 a finger reaches the object before the palm reaches its goal on the planner's approach
 (the volar strategy would back off, a closing from the standoff would start off the
 object), when links of its open hand overlap each other (check-hand fails such a
-posture), or when fewer than two real fingers touch or grip; links that overlap only
+posture), when closed in free space no two fingers meet (check-hand's closing check),
+or when fewer than two real fingers touch or grip; links that overlap only
 where the fingers stop cost 20 each (a real finger closing onto the palm stops there;
 the simulator lets it through). Fingers that do not close are stowed curled, or 60 %,
 30 % or 0 % of the way. A
@@ -40,7 +41,8 @@ ranked again by their worst objective with the object 1 cm off its place along e
 horizontal axis (a finger nudges it as the hand closes: a grasp that works only where
 the object stands exactly is fragile); then the best candidates, in that order, go
 through the held test with physics (the hand alone, as
-check-hand's experiment A trial): the first that holds is kept (another assignment of
+check-hand's experiment A trial, then on its design object as check-hand's design
+trial): the first that holds both is kept (another assignment of
 fingers, roll or aperture when the best does not hold). None holding, the best is kept
 and the table says so.
 """
@@ -104,19 +106,24 @@ def _held_trial(
     hand: HandDescription, grasp: HumanGrasp, obj: ObjectDescription, backend: Backend,
     T_object_human_palm: NDArray[np.float64], held: HeldTest,
 ):  # fmt: skip
-    """(held, failure, contacts in the object frame) of the hand alone grasping `obj`."""
+    """(held, failure, contacts in the object frame) of the hand alone grasping `obj`
+    where the human reference puts the palm, then, held, its design object (the
+    preshape's own object in its palm, as check-hand grasps it)."""
     from graspframe.checks.grasps import hand_alone_grasp
 
     try:
         outcome = hand_alone_grasp(
             hand, grasp, backend, obj, T_object_palm=T_object_human_palm, held=held
         )
+        design = hand_alone_grasp(hand, grasp, backend, held=held) if outcome.success else None
     except PlanningError as exc:
         return False, f"no plan: {exc}", []
     except (GraspframeError, ValueError, FloatingPointError) as exc:
         # the physics of a bad candidate can blow up (poses not finite): not held
         return False, f"the simulation failed ({type(exc).__name__}: {exc})", []
     contacts = [c.in_object_frame(outcome.T_world_object_at_hold) for c in outcome.contacts]
+    if design is not None and not design.success:
+        return False, f"its design object: {design.failure_reason}", contacts
     return outcome.success, outcome.failure_reason, contacts
 
 

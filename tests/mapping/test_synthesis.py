@@ -166,3 +166,37 @@ def test_held_trials_alternate_the_next_best_and_another_finger_arrangement():
         (all_four, 0.0, 0.03),
         (all_four, 90.0, 0.0),
     ]
+
+
+def test_a_candidate_whose_fingers_do_not_meet_when_closed_is_refused(tmp_path, backend):
+    """check-hand's closing check (some two fingers within 15 mm, closed in free space)
+    refuses such a preshape, so the synthesis does too: the Barrett's best small-diameter
+    candidate with its closed posture left open is refused, saying why."""
+    from dataclasses import replace
+
+    from graspframe.common.grasps import HUMAN_HAND
+    from graspframe.mapping.candidates import CandidateSpace
+    from graspframe.mapping.roles import roles_of
+    from graspframe.strategy.held_check import HeldTest
+    from graspframe.strategy.human_reference import human_reference
+    from graspframe.strategy.reference_poses import reference_placement
+
+    spec = tmp_path / "barrett.toml"
+    draft_spec_file(BARRETT_URDF, spec, REGISTRY, None)
+    hand = REGISTRY.get_hand(str(spec))
+    grasp = HumanGrasp.SMALL_DIAMETER
+    human = REGISTRY.get_hand(HUMAN_HAND)
+    obj = REGISTRY.default_object_for(grasp)
+    reference = human_reference(grasp, obj, human, backend, HeldTest())
+    T_object_palm = reference_placement(obj, human.preshape_for(grasp)).T_object_palm
+    draft, names = roles_of(hand)
+    space = CandidateSpace(
+        hand, draft, names, grasp, obj, T_object_palm, reference.contacts, human.finger_names
+    )
+    choice = space.initial()
+    closing = space.evaluate(choice)
+    assert "opposing fingers must end within" not in (closing.refused or "")
+    still_open = replace(closing.preshape, closed_q=dict(closing.preshape.open_q))
+    refused = space.score(still_open, choice)
+    assert refused.refused is not None and "opposing fingers must end within" in refused.refused
+    assert refused.cost > closing.cost
