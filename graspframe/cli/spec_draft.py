@@ -39,7 +39,13 @@ def _report(written: Written) -> None:
                 and result.measured_orientation_err_deg is not None
                 else ""
             )
-            why = f" ({result.failure})" if result.failure else ""
+            why = (
+                f" ({result.failure or result.design_failure})"
+                if (result.failure or result.design_failure)
+                else ""
+            )
+            if result.held and result.design_failure:
+                why = f" (but not {result.design_failure})"
             typer.echo(
                 f"{result.grasp.value} -> preshape {synthesis.grasp_map[result.grasp.value]}: "
                 f"{held}{why}; virtual-finger error predicted "

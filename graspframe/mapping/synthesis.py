@@ -43,8 +43,9 @@ the object stands exactly is fragile); then the best candidates, in that order, 
 through the held test with physics (the hand alone, as
 check-hand's experiment A trial, then on its design object as check-hand's design
 trial): the first that holds both is kept (another assignment of
-fingers, roll or aperture when the best does not hold). None holding, the best is kept
-and the table says so.
+fingers, roll or aperture when the best does not hold), else the first that held
+experiment A's object (the table says its design object was not held). None holding,
+the best is kept and the table says so.
 """
 
 from __future__ import annotations
@@ -67,6 +68,7 @@ from graspframe.hal.objects import ObjectDescription
 from graspframe.mapping.candidates import CandidateSpace, Evaluated
 from graspframe.mapping.roles import roles_of
 from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_contacts
+from graspframe.specs.draft_text import written_posture
 from graspframe.strategy.held_check import HeldTest
 from graspframe.strategy.planner import PlanningError
 
@@ -77,8 +79,9 @@ HELD_TRIALS = 16  # candidates tried with physics (1 to 2 s each when not held)
 @dataclass
 class GraspSynthesis:
     """What the synthesis found for one human grasp: the kept candidate, its held
-    verdict (None: not tested), the errors measured in the held trial's contacts, and
-    every physics trial (candidate, held, why not)."""
+    verdict on experiment A's object (None: not tested) and on its design object, the
+    errors measured in the held trial's contacts, and every physics trial (candidate,
+    held both, why not)."""
 
     grasp: HumanGrasp
     obj: ObjectDescription
@@ -88,6 +91,8 @@ class GraspSynthesis:
     measured_position_err_mm: float | None = None
     measured_orientation_err_deg: float | None = None
     trials: list[tuple[Evaluated, bool, str | None]] = field(default_factory=list)
+    kept_trial: int = 0  # which of the trials was kept (1-based; 0: none ran)
+    design_failure: str | None = None  # held, but not its design object: why
     evaluated: int = 0
     seconds: float = 0.0
 
@@ -106,9 +111,10 @@ def _held_trial(
     hand: HandDescription, grasp: HumanGrasp, obj: ObjectDescription, backend: Backend,
     T_object_human_palm: NDArray[np.float64], held: HeldTest,
 ):  # fmt: skip
-    """(held, failure, contacts in the object frame) of the hand alone grasping `obj`
-    where the human reference puts the palm, then, held, its design object (the
-    preshape's own object in its palm, as check-hand grasps it)."""
+    """(held, failure, contacts in the object frame, design failure) of the hand alone
+    grasping `obj` where the human reference puts the palm; held, its design object (the
+    preshape's own object in its palm, as check-hand grasps it) is grasped too, and the
+    design failure says why it was not held (None: held, or not tried)."""
     from graspframe.checks.grasps import hand_alone_grasp
 
     try:
@@ -117,14 +123,15 @@ def _held_trial(
         )
         design = hand_alone_grasp(hand, grasp, backend, held=held) if outcome.success else None
     except PlanningError as exc:
-        return False, f"no plan: {exc}", []
+        return False, f"no plan: {exc}", [], None
     except (GraspframeError, ValueError, FloatingPointError) as exc:
         # the physics of a bad candidate can blow up (poses not finite): not held
-        return False, f"the simulation failed ({type(exc).__name__}: {exc})", []
+        return False, f"the simulation failed ({type(exc).__name__}: {exc})", [], None
     contacts = [c.in_object_frame(outcome.T_world_object_at_hold) for c in outcome.contacts]
+    design_failure = None
     if design is not None and not design.success:
-        return False, f"its design object: {design.failure_reason}", contacts
-    return outcome.success, outcome.failure_reason, contacts
+        design_failure = f"its design object: {design.failure_reason}"
+    return outcome.success, outcome.failure_reason, contacts, design_failure
 
 
 def synthesize(
@@ -173,24 +180,55 @@ def synthesize(
             )
         outcome = GraspSynthesis(grasp, obj, ranked[0], None, evaluated=len(space.cache))
         if test_held:
-            for k, candidate in enumerate(_distinct(ranked)[:HELD_TRIALS], start=1):
-                progress(f"{grasp.value}: held test {k} (physics, the hand alone on {obj.name})")
-                trial_hand = space.with_preshape(candidate.preshape)
-                ok, failure, contacts = _held_trial(
-                    trial_hand, grasp, obj, backend, T_object_human_palm, held
-                )
-                outcome.trials.append((candidate, ok, failure))
-                if ok or k == 1:
-                    outcome.chosen, outcome.held, outcome.failure = candidate, ok, failure
-                    outcome.measured_position_err_mm, outcome.measured_orientation_err_deg = (
-                        _measured(contacts, space, hand)
-                    )
-                if ok:
-                    break
+            _held_trials(outcome, _distinct(ranked)[:HELD_TRIALS], space, draft, backend, held,
+                         T_object_human_palm, progress)  # fmt: skip
         outcome.seconds = time.perf_counter() - t0
         results.append(outcome)
     preshapes, grasp_map = _merged(results)
     return Synthesis(results, grasp_map, preshapes, time.perf_counter() - started)
+
+
+def _held_trials(
+    outcome: GraspSynthesis,
+    candidates: Sequence[Evaluated],
+    space: CandidateSpace,
+    draft,
+    backend: Backend,
+    held: HeldTest,
+    T_object_human_palm: NDArray[np.float64],
+    progress: Callable[[str], None],
+) -> None:
+    """The candidates grasped in turn (`_held_trial`) until one holds experiment A's
+    object and its design object; `outcome` keeps it, else the first that held
+    experiment A's object (its design failure said), else the first candidate."""
+    grasp, obj = outcome.grasp, outcome.obj
+    kept: tuple | None = None  # (k, candidate, ok, failure, contacts, design_failure)
+    for k, candidate in enumerate(candidates, start=1):
+        progress(f"{grasp.value}: held test {k} (physics, the hand alone on {obj.name})")
+        # what the table writes is what is tested: a marginal grasp can flip on a
+        # 0.01 deg rounding
+        trial_hand = space.with_preshape(candidate.preshape)
+        written = _as_written(trial_hand.preshapes[grasp.value], draft.joints)
+        trial_hand = replace(trial_hand, preshapes={grasp.value: written})
+        candidate = replace(candidate, preshape=written)
+        ok, failure, contacts, design_failure = _held_trial(
+            trial_hand, grasp, obj, backend, T_object_human_palm, held
+        )
+        outcome.trials.append((candidate, ok and design_failure is None, failure or design_failure))
+        trial = (k, candidate, ok, failure, contacts, design_failure)
+        if kept is None or (ok and not kept[2]):
+            kept = trial
+        if ok and design_failure is None:
+            kept = trial
+            break
+    if kept is None:
+        return
+    k, candidate, ok, failure, contacts, design_failure = kept
+    outcome.chosen, outcome.held, outcome.failure = candidate, ok, failure
+    outcome.kept_trial, outcome.design_failure = k, design_failure
+    outcome.measured_position_err_mm, outcome.measured_orientation_err_deg = _measured(
+        contacts, space, space.hand
+    )
 
 
 def _distinct(ranked: Sequence[Evaluated]) -> list[Evaluated]:
@@ -222,6 +260,34 @@ def _distinct(ranked: Sequence[Evaluated]) -> list[Evaluated]:
                 taken.add(id(e))
                 kept.append(e)
     return kept
+
+
+def _as_written(preshape: HandPreshape, joints) -> HandPreshape:
+    """The preshape as the spec's table (mapping/tables.py) writes it and it reads back:
+    joint values to 0.01 deg (specs/draft_text.py's written_posture), lengths to 0.1 mm,
+    the delta 0 at least."""
+
+    def rounded(values) -> tuple[float, float, float]:
+        x, y, z = (round(float(v), 4) for v in values)
+        return x, y, z
+
+    design = preshape.design_object
+    if design is not None:
+        design = replace(
+            design,
+            centre=rounded(design.centre),
+            radius=round(design.radius, 4),
+            axis=None if design.axis is None else rounded(design.axis),
+            length=None if design.length is None else round(design.length, 4),
+        )
+    return replace(
+        preshape,
+        open_q=written_posture(preshape.open_q, joints),
+        closed_q=written_posture(preshape.closed_q, joints),
+        grasp_center=rounded(preshape.grasp_center_palm),
+        delta=round(max(preshape.delta, 0.0), 4),
+        design_object=design,
+    )
 
 
 def _measured(

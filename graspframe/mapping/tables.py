@@ -47,8 +47,13 @@ def preshape_tables(synthesis: Synthesis, draft: HandDraft) -> str:
         )
         if result.held is None:
             lines.append("# Held: not tested.")
+        elif result.held and result.design_failure:
+            lines.append(
+                f"# Held: yes (held trial {result.kept_trial} of {len(result.trials)}), but "
+                f"not {result.design_failure}"
+            )
         elif result.held:
-            lines.append(f"# Held: yes (held trial {len(result.trials)} of {len(result.trials)}).")
+            lines.append(f"# Held: yes (held trial {result.kept_trial} of {len(result.trials)}).")
         else:
             lines.append(f"# Held: NO after {len(result.trials)} candidates: {result.failure}")
         lines.append(f"[preshapes.{name}]")

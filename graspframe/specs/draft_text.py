@@ -201,20 +201,35 @@ def posture_table(
     prismatic = any(joints[j].kind == "prismatic" for j in q)
     table = f"[preshapes.{_key(name)}.{key}{'' if prismatic else '_deg'}]"
     lines = [table]
-    digits = 5 if prismatic else 2
     for joint, value in q.items():
-        limits = (joints[joint].lower, joints[joint].upper)
-        if not prismatic:
-            value, limits = math.degrees(value), (math.degrees(limits[0]), math.degrees(limits[1]))
-        shown = round(value, digits)
-        # rounded past a limit (-20.0 deg of a -0.349 rad limit): rounded inwards instead
-        step = 10.0**-digits
-        if shown < limits[0]:
-            shown = math.ceil(limits[0] / step) * step
-        if shown > limits[1]:
-            shown = math.floor(limits[1] / step) * step
-        lines.append(f'"{joint}" = {round(shown, digits):g}')
+        lines.append(f'"{joint}" = {_shown(value, joints[joint], prismatic):g}')
     return lines
+
+
+def _shown(value: float, joint: Joint, prismatic: bool) -> float:
+    """A joint value as posture_table writes it: [deg] to 0.01 (a prismatic hand's [m]
+    to 1e-5), rounded inwards where rounding would pass a limit (-20.0 deg of a -0.349
+    rad limit)."""
+    digits = 5 if prismatic else 2
+    limits = (joint.lower, joint.upper)
+    if not prismatic:
+        value, limits = math.degrees(value), (math.degrees(limits[0]), math.degrees(limits[1]))
+    shown = round(value, digits)
+    step = 10.0**-digits
+    if shown < limits[0]:
+        shown = math.ceil(limits[0] / step) * step
+    if shown > limits[1]:
+        shown = math.floor(limits[1] / step) * step
+    return round(shown, digits)
+
+
+def written_posture(q: Mapping[str, float], joints: Mapping[str, Joint]) -> dict[str, float]:
+    """q [rad or m] as it reads back from posture_table's lines."""
+    prismatic = any(joints[j].kind == "prismatic" for j in q)
+    return {
+        name: _shown(value, joints[name], prismatic) * (1.0 if prismatic else math.pi / 180.0)
+        for name, value in q.items()
+    }
 
 
 def generic_wrap(draft: HandDraft) -> tuple[str, dict[str, str]]:
