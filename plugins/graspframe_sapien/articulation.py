@@ -47,7 +47,9 @@ def load_articulation(
         builders, actor_builders, _ = loader._parse_urdf(model.text)
         if len(builders) != 1 or actor_builders:
             raise DescriptionError(f"the model holds {len(builders)} articulations, not one")
-        articulation = builders[0].build()
+        articulation = _build_with_couplings(builders[0], fix_root)
+    except DescriptionError:
+        raise
     except Exception as exc:
         raise DescriptionError(f"SAPIEN cannot load {model.describe()}: {exc}") from exc
     if articulation is None:
@@ -56,6 +58,47 @@ def load_articulation(
         for shape in link.get_collision_shapes():
             g0, g1, g2, _ = shape.get_collision_groups()
             shape.set_collision_groups([g0, g1, g2 | NO_SELF_COLLISION_BIT, robot_id])
+    return articulation
+
+
+def _build_with_couplings(builder, fix_root: bool) -> sapien.physx.PhysxArticulation:
+    """The articulation of a URDF builder, each <mimic> follower coupled to its leader by
+    a fixed tendon: q_follower = multiplier * q_leader + offset (the URDF's relation).
+
+    SAPIEN's own `build` orders the tendon's links by topology and gets the relation
+    inverted for two joints that hang from the same link (q_leader = multiplier *
+    q_follower + offset: invisible at multiplier 1 and offset 0, wrong otherwise); here
+    the leader's link comes before the follower's in both cases."""
+    links = builder.build_entities(fix_root_link=fix_root)
+    component = sapien.physx.PhysxArticulationLinkComponent
+    articulation = links[0].find_component_by_type(component).articulation
+    for record in builder.mimic_joint_records:
+        follower = articulation.find_joint_by_name(record.joint)
+        leader = articulation.find_joint_by_name(record.mimic)
+        if follower.parent_link == leader.child_link:  # a chain: leader, then follower
+            root = leader.parent_link
+        elif follower.parent_link == leader.parent_link:  # siblings
+            root = follower.parent_link
+        else:
+            raise DescriptionError(
+                f"<mimic> joint {record.joint!r} follows {record.mimic!r}, which is neither "
+                "its parent joint nor a joint on the same link: not simulated"
+            )
+        if root is None:
+            raise DescriptionError(
+                f"<mimic> joint {record.joint!r} follows the root joint {record.mimic!r}: "
+                "a coupling needs a link above its leader"
+            )
+        m = record.multiplier
+        articulation.create_fixed_tendon(
+            [root, leader.child_link, follower.child_link],
+            [0, -m, 1],
+            [0, -1 / m, 1],
+            rest_length=record.offset,
+            stiffness=1e5,
+        )
+    for link in links:
+        builder.scene.add_entity(link)
     return articulation
 
 
@@ -83,6 +126,19 @@ def configure_drives(
     for follower, (leader, _multiplier, _offset) in followers.items():
         if follower in joints and leader in gains_by_joint:
             joints[follower].set_armature([gains_by_joint[leader].armature])
+
+
+def satisfy_couplings(articulation, followers: Mapping[str, tuple[str, float, float]]) -> None:
+    """Set each <mimic> follower where its leader's position puts it. A model loads with
+    every joint at 0, which breaks a coupling with an offset (the Ability hand's distal
+    joints: 0.72 rad at a leader's 0); PhysX's coupling then corrects the whole error in
+    one step and the articulation blows up (NaN poses)."""
+    names = list(active_joints(articulation))
+    qpos = np.array(articulation.get_qpos(), dtype=float)
+    for follower, (leader, multiplier, offset) in followers.items():
+        if follower in names and leader in names:
+            qpos[names.index(follower)] = multiplier * qpos[names.index(leader)] + offset
+    articulation.set_qpos(qpos)
 
 
 def set_qpos_by_name(articulation, q_by_joint: Mapping[str, float]) -> None:

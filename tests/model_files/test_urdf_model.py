@@ -11,12 +11,19 @@ import numpy as np
 import pytest
 import trimesh
 from conftest import folder_state
-from graspframe_sapien.articulation import active_joints, create_scene, load_articulation
+from graspframe_sapien.articulation import (
+    active_joints,
+    configure_drives,
+    create_scene,
+    load_articulation,
+    satisfy_couplings,
+)
 from scipy.spatial import ConvexHull
 
 from graspframe.common.cache import ENTRY_FILE
 from graspframe.common.errors import DescriptionError
 from graspframe.common.transforms import R_from_rpy, make_T
+from graspframe.hal.descriptions import DriveGains
 from graspframe.model_files.convex import MAX_PIECE_VERTICES, convex_pieces
 from graspframe.model_files.urdf_model import FrameOffset, read_model
 from graspframe.plugin_system.registry import default_registry
@@ -148,6 +155,38 @@ def test_stray_spaces_relative_stl_meshes_and_mimic_joints(quirky_urdf):
     assert trimesh.convex.convex_hull(convex_points(piece)).volume == pytest.approx(
         0.04 * 0.02 * 0.06, rel=1e-6
     )
+
+
+@pytest.mark.parametrize("topology", ["siblings", "chain"])
+def test_a_mimic_coupling_holds_the_urdf_relation_from_the_first_step(quirky_urdf, topology):
+    """q_follower = multiplier * q_leader + offset, for a follower on its leader's link
+    (the Ability hand's distal joints) and one beside it on the same link (SAPIEN's own
+    loader inverts that one). The all-zero posture a model loads in breaks a coupling with
+    an offset (the Ability's: 0.72 rad at a leader's 0): PhysX corrected it in one step
+    and the articulation's poses went NaN."""
+    text = QUIRKY_URDF.replace('multiplier="1" offset="0"', 'multiplier="0.5" offset="0.7"')
+    if topology == "chain":
+        text = text.replace(
+            '<parent link="base "/><child link="follower"/>',
+            '<parent link="finger"/><child link="follower"/>',
+        )
+    quirky_urdf.write_text(text)
+    model = read_model(quirky_urdf)
+    scene = create_scene(1 / 500)
+    articulation = load_articulation(scene, model, fix_root=True)
+    followers = model.mimic_followers
+    configure_drives(articulation, {"finger_joint": DriveGains(10.0, 0.3, 5.0)}, followers)
+    satisfy_couplings(articulation, followers)
+    joints = list(active_joints(articulation))
+    leader, follower = joints.index("finger_joint"), joints.index("follower_joint")
+    assert articulation.get_qpos()[follower] == pytest.approx(0.7)
+    active_joints(articulation)["finger_joint"].set_drive_target(0.5)
+    for _ in range(500):
+        scene.step()
+    qpos = articulation.get_qpos()
+    assert np.all(np.isfinite(qpos))
+    assert qpos[leader] == pytest.approx(0.5, abs=0.01)
+    assert qpos[follower] == pytest.approx(0.5 * qpos[leader] + 0.7, abs=0.01)
 
 
 def test_a_missing_mesh_names_the_link_and_the_path(quirky_urdf):
