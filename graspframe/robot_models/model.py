@@ -11,10 +11,11 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Set as AbstractSet
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from graspframe.common.errors import DescriptionError
 from graspframe.hal.descriptions import ArmDescription, HandDescription
+from graspframe.model_files.coupled_limits import leader_ranges
 from graspframe.model_files.urdf_model import UrdfModel, load_model_file
 
 
@@ -74,7 +75,8 @@ def collision_geometry_model(model: UrdfModel, pinocchio_model):
 
 def summarize_urdf(model: UrdfModel) -> UrdfSummary:
     """Joint limits and link names of a model, read by Pinocchio (each follower
-    separately)."""
+    separately; a leader's limits cut to what its followers' let it reach,
+    graspframe/model_files/coupled_limits.py)."""
     return _summary(model.text, model.describe())
 
 
@@ -103,6 +105,11 @@ def _summary(text: str, name: str) -> UrdfSummary:
             max_velocity=float(model.velocityLimit[iv]),
             max_effort=float(model.effortLimit[iv]),
         )
+    # a <mimic> leader goes only as far as its followers' limits let it
+    ranges = leader_ranges(
+        {n: (j.lower, j.upper) for n, j in joints.items()}, UrdfModel(name, text).mimic_followers
+    )
+    joints = {n: replace(j, lower=ranges[n][0], upper=ranges[n][1]) for n, j in joints.items()}
     links = frozenset(f.name for f in model.frames if f.type == pin.FrameType.BODY)
     return UrdfSummary(joints=joints, links=links)
 

@@ -6,11 +6,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
+from graspframe.model_files.coupled_limits import leader_ranges
 from graspframe.model_files.urdf_model import UrdfModel
 
 MOVING = ("revolute", "prismatic", "continuous")
@@ -80,7 +81,11 @@ def read_joints(model: UrdfModel) -> dict[str, Joint]:
             float(values.get("effort", 0.0)), float(values.get("velocity", 0.0)),
             None if mimic is None else mimic.get("joint"),
         )  # fmt: skip
-    return joints
+    # a leader goes only as far as its followers' limits let it (model_files/coupled_limits)
+    ranges = leader_ranges(
+        {n: (j.lower, j.upper) for n, j in joints.items()}, model.mimic_followers
+    )
+    return {n: replace(j, lower=ranges[n][0], upper=ranges[n][1]) for n, j in joints.items()}
 
 
 class Kinematics:

@@ -81,7 +81,7 @@ def palm_frame(
     if len(points):
         local = (points - centre) @ R
         near = local[np.hypot(local[:, 0], local[:, 1]) <= max(0.03, np.ptp(local[:, 0]) / 2)]
-        height = float(near[:, 2].max()) if len(near) else float(local[:, 2].max())
+        height = _surface_height(near if len(near) else local)
         # the origin: the middle of the palm surface (its points within 3 mm of the
         # height), on it
         layer = local[local[:, 2] >= height - PALM_SURFACE_LAYER]
@@ -103,6 +103,42 @@ def palm_frame(
     T = np.eye(4)
     T[:3, :3], T[:3, 3] = R, origin
     return T, pad_centre, np.array([size[0], size[1], 0.002])
+
+
+SURFACE_SHARE = 0.1  # of the palm's outline: a layer covering less is a bump, not the palm
+SURFACE_STEP = 0.0005  # [m] the heights tried, from the highest point down
+
+
+def _surface_height(local: NDArray[np.float64]) -> float:
+    """[m] The palm surface's height over its points (palm frame): the highest whose
+    layer (the points within PALM_SURFACE_LAYER below it) covers SURFACE_SHARE of the
+    palm's outline seen along its normal. On most palms that is the highest point; a
+    small box standing proud of the palm (the Shadow hand's thenar boxes, 10 mm over
+    the palm by the wrist) would otherwise put the palm frame on it, at the palm's
+    corner."""
+    outline = _area(local[:, :2])
+    heights = local[:, 2]
+    height = float(heights.max())
+    while True:
+        layer = local[heights >= height - PALM_SURFACE_LAYER]
+        if _area(layer[:, :2]) >= SURFACE_SHARE * outline:
+            return height
+        lower = heights[heights < height - SURFACE_STEP]
+        if not len(lower):
+            return float(heights.max())
+        height = float(lower.max())
+
+
+def _area(points: NDArray[np.float64]) -> float:
+    """[m^2] The area of the points' convex hull (0 for fewer than three or a line)."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    if len(points) < 3:
+        return 0.0
+    try:
+        return float(ConvexHull(points).volume)  # a 2-D hull's volume is its area
+    except QhullError:
+        return 0.0
 
 
 PROBE_DEPTH = 0.0105  # [m] the palm must be solid this far below its frame's origin

@@ -11,6 +11,7 @@ from typing import Any
 
 from graspframe.common.transforms import R_from_rpy, make_T
 from graspframe.hal.descriptions import Coupling, DriveGains, JointSpec
+from graspframe.model_files.coupled_limits import leader_ranges
 from graspframe.model_files.urdf_model import FrameOffset, UrdfModel
 from graspframe.specs.reader import SpecReader
 
@@ -75,6 +76,12 @@ def _movable_joints(model: UrdfModel) -> tuple[list[str], dict[str, dict[str, An
             "effort": float(values.get("effort", 0.0)),
             "mimic": None if mimic is None else mimic.attrib,
         }
+    # a leader goes only as far as its followers' limits let it (model_files/coupled_limits)
+    ranges = leader_ranges(
+        {n: (i["lower"], i["upper"]) for n, i in info.items()}, model.mimic_followers
+    )
+    for name, (lower, upper) in ranges.items():
+        info[name]["lower"], info[name]["upper"] = lower, upper
     return names, info
 
 

@@ -16,6 +16,7 @@ from graspframe.checks.hand import check_hand_report
 from graspframe.checks.self_collision import posture_collisions
 from graspframe.cli.commands import main
 from graspframe.common.errors import DescriptionError
+from graspframe.common.transforms import rpy_from_R
 from graspframe.plugin_system.registry import default_registry
 from graspframe.robot_models.model import CollisionModel, model_of
 from graspframe.specs import load_spec
@@ -224,3 +225,35 @@ def test_a_drafted_hand_mounts_on_an_arm_straight_and_through_a_dorsal_plate(urd
     T_root_plate = model.T_root_frame(draft.dorsal_frame)
     assert T_root_palm[:3, 2] @ T_root_plate[:3, 2] > 0.999
     assert draft.back_of_palm is not None and draft.back_of_palm > 0.01
+
+
+@pytest.mark.parametrize("hand_name", ["barrett", "karlsruhe"])
+def test_a_small_box_proud_of_the_palm_does_not_move_the_palm_frame_onto_it(hand_name, tmp_path):
+    """A pad standing proud of the palm by its edge (the Shadow hand's thenar boxes, 10 mm
+    over its palm by the wrist) is a bump, not the palm surface: the palm frame stays
+    where it is on the plain palm, not on the bump's top at the palm's corner."""
+    urdf = ROBOTS / hand_name / f"{hand_name}.urdf"
+    plain = draft_hand(urdf)
+    T = plain.T_palmlink_palm
+    # a 12 x 12 mm box (the palm frame's axes), 8 mm proud of the palm, 20 mm off its middle
+    centre = T[:3, :3] @ np.array([-0.02, 0.02, -0.002]) + T[:3, 3]
+    tree = ET.parse(urdf)
+    link = tree.getroot().find(f"link[@name='{plain.palm_link}']")
+    collision = ET.SubElement(link, "collision")
+    roll, pitch, yaw = rpy_from_R(T[:3, :3])
+    ET.SubElement(collision, "origin", xyz=" ".join(map(str, centre)), rpy=f"{roll} {pitch} {yaw}")
+    ET.SubElement(ET.SubElement(collision, "geometry"), "box", size="0.012 0.012 0.02")
+    bumped_urdf = tmp_path / "bumped.urdf"
+    tree.write(bumped_urdf)
+    bumped = draft_hand(bumped_urdf)
+    moved_mm = 1000 * np.linalg.norm(bumped.T_palmlink_palm[:3, 3] - T[:3, 3])
+    assert moved_mm < 2.0, f"the palm frame moved {moved_mm:.1f} mm onto the bump"
+
+
+def test_the_shadow_hands_palm_frame_lies_in_the_middle_of_its_palm():
+    _vendor_dir("hands")
+    draft = draft_hand(THIRD_PARTY / "hands" / "shadow_hand" / "shadow_hand_right.urdf")
+    # the palm link's frame: fingers along +z, the palm 95 mm long from the wrist and 70
+    # mm across (x), its face towards -y (the URDF's collision boxes)
+    x, y, z = draft.T_palmlink_palm[:3, 3]
+    assert 0.025 < z < 0.07 and -0.02 < x < 0.03 and y < -0.01, (x, y, z)
