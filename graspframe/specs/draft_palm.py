@@ -105,7 +105,7 @@ def palm_frame(
     return T, pad_centre, np.array([size[0], size[1], 0.002])
 
 
-SURFACE_SHARE = 0.1  # of the palm's outline: a layer covering less is a bump, not the palm
+SURFACE_SHARE = 0.03  # of the palm's outline: a layer covering less is a bump, not the palm
 SURFACE_STEP = 0.0005  # [m] the heights tried, from the highest point down
 
 
