@@ -54,6 +54,8 @@ def _report(written: Written) -> None:
                 f"{measured}; {result.evaluated} candidates, {len(result.trials)} held "
                 f"trials, {result.seconds:.0f} s"
             )
+        for grasp, why in synthesis.impossible.items():
+            typer.echo(f"{grasp} -> no preshape: {why}")
     steps = ", ".join(f"{step} {seconds:.0f} s" for step, seconds in written.steps.items())
     typer.echo(f"wrote {written.path} ({steps})")
     if written.notes:

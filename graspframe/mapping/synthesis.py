@@ -105,6 +105,8 @@ class Synthesis:
     grasp_map: dict[str, str]
     preshapes: dict[str, HandPreshape]
     seconds: float = 0.0
+    # grasp -> why the hand cannot make it (every candidate refused): no preshape
+    impossible: dict[str, str] = field(default_factory=dict)
 
 
 def _held_trial(
@@ -153,7 +155,7 @@ def synthesize(
     held = held or HeldTest()
     draft, names = roles_of(hand)
     human = registry.get_hand(HUMAN_HAND)
-    results = []
+    results, impossible = [], {}
     for grasp in grasps:
         t0 = time.perf_counter()
         obj = registry.default_object_for(grasp)
@@ -167,25 +169,30 @@ def synthesize(
         if not reference.contacts:
             raise GraspframeError(f"the human reference of {grasp.value} has no contacts")
         progress(f"{grasp.value}: searching the preshapes (kinematic closing on {obj.name})")
-        ranked = [e for e in space.search() if e.refused is None]
+        found = space.search()  # best first
+        ranked = [e for e in found if e.refused is None]
         # the best ROBUST_CANDIDATES, in the order of their worst objective nearby
         robust = sorted(ranked[:ROBUST_CANDIDATES], key=space.robust_cost)
         ranked = robust + ranked[ROBUST_CANDIDATES:]
         if not ranked:
-            nearest = sorted(space.cache.values(), key=lambda e: e.cost)[:3]
+            nearest = found[:3]
             reasons = list(dict.fromkeys(e.refused or "" for e in nearest))
-            raise GraspframeError(
+            impossible[grasp.value] = (
                 f"{hand.name} cannot make a {grasp.value} on {obj.name}: every candidate was "
                 f"refused; the nearest: {' | '.join(reasons)}"
             )
+            progress(f"{grasp.value}: no preshape ({impossible[grasp.value]})")
+            continue
         outcome = GraspSynthesis(grasp, obj, ranked[0], None, evaluated=len(space.cache))
         if test_held:
             _held_trials(outcome, _distinct(ranked)[:HELD_TRIALS], space, draft, backend, held,
                          T_object_human_palm, progress)  # fmt: skip
         outcome.seconds = time.perf_counter() - t0
         results.append(outcome)
+    if not results:  # a spec needs one preshape at least
+        raise GraspframeError("; ".join(impossible.values()))
     preshapes, grasp_map = _merged(results)
-    return Synthesis(results, grasp_map, preshapes, time.perf_counter() - started)
+    return Synthesis(results, grasp_map, preshapes, time.perf_counter() - started, impossible)
 
 
 def _held_trials(

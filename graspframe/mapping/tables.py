@@ -18,6 +18,8 @@ def preshape_tables(synthesis: Synthesis, draft: HandDraft) -> str:
         "# docs/synthesis.md): edit any value; `graspframe check-hand SPEC --synthesize`",
         "# rewrites them.",
     ]
+    for grasp, why in synthesis.impossible.items():
+        lines += ["", f"# {grasp}: no preshape, not in [grasp_map]. {why}."]
     by_preshape: dict[str, list[GraspSynthesis]] = {}
     for result in synthesis.grasps:
         by_preshape.setdefault(synthesis.grasp_map[result.grasp.value], []).append(result)

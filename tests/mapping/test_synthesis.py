@@ -210,3 +210,34 @@ def test_a_candidate_whose_fingers_do_not_meet_when_closed_is_refused(tmp_path, 
     refused = space.score(still_open, choice)
     assert refused.refused is not None and "opposing fingers must end within" in refused.refused
     assert refused.cost > closing.cost
+
+
+def test_a_grasp_the_hand_cannot_make_is_left_out_of_the_table_and_the_others_are_written(
+    tmp_path, backend, monkeypatch
+):
+    """One grasp whose candidates are all refused does not lose the others: the table
+    names it with the reason and maps the rest (the search is made to refuse every
+    small-diameter candidate: what a hand that cannot make it gets)."""
+    from dataclasses import replace
+
+    from graspframe.mapping.candidates import CandidateSpace
+
+    search = CandidateSpace.search
+
+    def refusing(space):
+        found = search(space)
+        if space.grasp is HumanGrasp.SMALL_DIAMETER:
+            return [replace(e, refused="the fingers cannot reach round it") for e in found]
+        return found
+
+    monkeypatch.setattr(CandidateSpace, "search", refusing)
+    spec = tmp_path / "gripper.toml"
+    draft_spec_file(GRIPPER_URDF, spec, REGISTRY, None)
+    grasps = [HumanGrasp.PINCH, HumanGrasp.SMALL_DIAMETER]
+    written = synthesize_spec_file(spec, REGISTRY, backend, grasps=grasps)
+    assert written.synthesis is not None
+    assert "fingers cannot reach round it" in written.synthesis.impossible["small_diameter"]
+    text = spec.read_text()
+    assert "# small_diameter: no preshape, not in [grasp_map]." in text
+    hand = load_spec(spec)
+    assert set(g.value for g in hand.grasp_map) == {"pinch"}
