@@ -2,9 +2,10 @@
 
 SAPIEN's renderer needs a GPU, so scenes hold only a PhysX CPU system, and the model
 (`UrdfModel`: the URDF text in memory, visuals taken out, collision meshes as convex
-pieces) is given to SAPIEN's URDF parser as text. <mimic> joints are enforced by SAPIEN's
-loader; their followers must have no drive of their own, or the drive fights the
-coupling.
+pieces) is given to SAPIEN's URDF parser as text. <mimic> joints are enforced by fixed
+tendons built here (SAPIEN's own loader inverts the relation of two joints on one link),
+with each follower set where its leader puts it before the first step; followers must
+have no drive of their own, or the drive fights the coupling.
 """
 
 from __future__ import annotations
