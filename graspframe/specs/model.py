@@ -78,7 +78,8 @@ def _movable_joints(model: UrdfModel) -> tuple[list[str], dict[str, dict[str, An
         }
     # a leader goes only as far as its followers' limits let it (model_files/coupled_limits)
     ranges = leader_ranges(
-        {n: (i["lower"], i["upper"]) for n, i in info.items()}, model.mimic_followers
+        {n: (float(i["lower"]), float(i["upper"])) for n, i in info.items()},  # type: ignore[arg-type]
+        model.mimic_followers,
     )
     for name, (lower, upper) in ranges.items():
         info[name]["lower"], info[name]["upper"] = lower, upper

@@ -241,3 +241,23 @@ def test_a_grasp_the_hand_cannot_make_is_left_out_of_the_table_and_the_others_ar
     assert "# small_diameter: no preshape, not in [grasp_map]." in text
     hand = load_spec(spec)
     assert set(g.value for g in hand.grasp_map) == {"pinch"}
+
+
+def test_the_ability_hand_as_shipped_holds_a_large_cylinder(tmp_path, backend):
+    """A vendor hand unlike the LEAP: its distal joints follow the proximal ones by
+    <mimic> couplings with an offset (0.72 rad at a leader's 0), which the simulator
+    must hold from the first step, and which stop each finger before its own limit (the
+    kinematic closing must stop it there too); its palm frame lies on the palm, not on a
+    bump of it. Drafted and synthesised, no hand-written value: it holds."""
+    from tests.conftest import _vendor_dir
+
+    urdf = _vendor_dir("hands", "ability_hand") / "ability_hand_right.urdf"
+    spec = tmp_path / "ability.toml"
+    draft_spec_file(urdf, spec, REGISTRY, None)
+    written = synthesize_spec_file(spec, REGISTRY, backend, grasps=[HumanGrasp.LARGE_DIAMETER])
+    assert written.synthesis is not None
+    result = written.synthesis.grasps[0]
+    assert result.held, result.failure
+    # the fingers' leaders close no further than their followers let them (1.83 rad)
+    closed = result.chosen.preshape.closed_q
+    assert max(closed[f"{f}_q1"] for f in ("index", "middle", "ring", "pinky")) <= 1.8282

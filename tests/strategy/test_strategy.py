@@ -301,6 +301,15 @@ NOT_HELD = {
     ),
 }
 
+# Cases whose outcome changes from one machine to the next at the same commit and the
+# same package versions (PhysX on the CPU; a grasp on the edge): not strict.
+MARGINAL = {
+    ("karlsruhe", G.LARGE_DIAMETER, "125", "arm"): (
+        "the thumb touches the 10 cm cylinder first on every approach and the four "
+        "corrections do not clear it (on 2026-12-03, at a commit whose CI had held it)"
+    ),
+}
+
 
 def _cases(sizes, mounts):
     """(hand, grasp, size, mount) parameters, the known failures marked strict xfail."""
@@ -313,6 +322,8 @@ def _cases(sizes, mounts):
                     marks = ()
                     if key in NOT_HELD:
                         marks = pytest.mark.xfail(reason=NOT_HELD[key], strict=True)
+                    elif key in MARGINAL:
+                        marks = pytest.mark.xfail(reason=MARGINAL[key], strict=False)
                     label = f"{hand_name}-{grasp.value}-{size}-{mount_name}"
                     cases.append(pytest.param(*key, marks=marks, id=label))
     return cases
