@@ -61,6 +61,7 @@ def _movable_joints(model: UrdfModel) -> tuple[list[str], dict[str, dict[str, An
     mimic}) of a model."""
     robot = model.root()
     names, info = [], {}
+    ranges: dict[str, tuple[float, float]] = {}
     for joint in robot.findall("joint"):
         if joint.get("type") not in ("revolute", "prismatic", "continuous"):
             continue
@@ -69,19 +70,16 @@ def _movable_joints(model: UrdfModel) -> tuple[list[str], dict[str, dict[str, An
         values = {} if limit is None else dict(limit.attrib)
         mimic = joint.find("mimic")
         names.append(name)
+        ranges[name] = (float(values.get("lower", -math.pi)), float(values.get("upper", math.pi)))
         info[name] = {
-            "lower": float(values.get("lower", -math.pi)),
-            "upper": float(values.get("upper", math.pi)),
+            "lower": ranges[name][0],
+            "upper": ranges[name][1],
             "velocity": float(values.get("velocity", 0.0)),
             "effort": float(values.get("effort", 0.0)),
             "mimic": None if mimic is None else mimic.attrib,
         }
     # a leader goes only as far as its followers' limits let it (model_files/coupled_limits)
-    ranges = leader_ranges(
-        {n: (float(i["lower"]), float(i["upper"])) for n, i in info.items()},  # type: ignore[arg-type]
-        model.mimic_followers,
-    )
-    for name, (lower, upper) in ranges.items():
+    for name, (lower, upper) in leader_ranges(ranges, model.mimic_followers).items():
         info[name]["lower"], info[name]["upper"] = lower, upper
     return names, info
 

@@ -36,7 +36,8 @@ def create_scene(timestep: float) -> sapien.Scene:
 def load_articulation(
     scene: sapien.Scene, model: UrdfModel, fix_root: bool, robot_id: int = 1
 ) -> sapien.physx.PhysxArticulation:
-    """Load a robot model as one articulation without self-collision."""
+    """Load a robot model as one articulation without self-collision, its <mimic>
+    couplings held from the first step."""
     loader = scene.create_urdf_loader()
     loader.fix_root_link = fix_root
     # What `loader.parse` sets before parsing a file: no package folder (the model names
@@ -55,6 +56,7 @@ def load_articulation(
         raise DescriptionError(f"SAPIEN cannot load {model.describe()}: {exc}") from exc
     if articulation is None:
         raise DescriptionError(f"SAPIEN loaded no articulation from {model.describe()}")
+    _satisfy_couplings(articulation, model.mimic_followers)
     for link in articulation.get_links():
         for shape in link.get_collision_shapes():
             g0, g1, g2, _ = shape.get_collision_groups()
@@ -129,7 +131,7 @@ def configure_drives(
             joints[follower].set_armature([gains_by_joint[leader].armature])
 
 
-def satisfy_couplings(articulation, followers: Mapping[str, tuple[str, float, float]]) -> None:
+def _satisfy_couplings(articulation, followers: Mapping[str, tuple[str, float, float]]) -> None:
     """Set each <mimic> follower where its leader's position puts it. A model loads with
     every joint at 0, which breaks a coupling with an offset (the Ability hand's distal
     joints: 0.72 rad at a leader's 0); PhysX's coupling then corrects the whole error in

@@ -12,7 +12,6 @@ from graspframe_sapien.articulation import (
     configure_drives,
     create_scene,
     load_articulation,
-    satisfy_couplings,
     set_qpos_by_name,
 )
 
@@ -56,7 +55,6 @@ class SapienWorld(World):
         if arm is not None:
             gains |= {name: arm.drive for name in arm.joint_names}
         configure_drives(self.articulation, gains, followers)
-        satisfy_couplings(self.articulation, followers)
 
         if arm is not None:
             self.articulation.set_root_pose(to_pose(as_pose(config.T_world_arm_base)))

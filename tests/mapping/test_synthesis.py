@@ -31,15 +31,20 @@ def backend():
     return REGISTRY.get_backend("sapien")()
 
 
+def _synthesised(urdf: Path, spec: Path, backend, grasp: HumanGrasp):
+    """The hand drafted from `urdf` into `spec`, `grasp` synthesised there: its result."""
+    draft_spec_file(urdf, spec, REGISTRY, None)
+    written = synthesize_spec_file(spec, REGISTRY, backend, grasps=[grasp])
+    assert written.synthesis is not None
+    return written.synthesis.grasps[0]
+
+
 def test_the_barrett_drafted_from_its_urdf_holds_a_small_cylinder_as_faithfully(tmp_path, backend):
     """No hand-written angle: the small-diameter preshape synthesised on the Barrett's
     own URDF holds, its virtual fingers within 1.2 times the hand-written table's error
     (experiment A, the hand alone: 8.1 mm and 22.0 deg with the hand-written table)."""
     spec = tmp_path / "barrett.toml"
-    draft_spec_file(BARRETT_URDF, spec, REGISTRY, None)
-    written = synthesize_spec_file(spec, REGISTRY, backend, grasps=[HumanGrasp.SMALL_DIAMETER])
-    assert written.synthesis is not None
-    result = written.synthesis.grasps[0]
+    result = _synthesised(BARRETT_URDF, spec, backend, HumanGrasp.SMALL_DIAMETER)
     assert result.held, result.failure
     assert result.measured_position_err_mm is not None
     assert result.measured_position_err_mm <= 1.2 * 22.0  # the hand-written arm run's 13.9
@@ -67,11 +72,9 @@ def test_the_karlsruhe_drafted_from_its_urdf_holds_a_ball_with_its_thumb_opposed
     the palm's middle towards the fingers: no single step of the coordinate search gets
     there from the palm's middle (the upright thumb is in the ball), so each thumb
     placing starts where the object sits best for it. The result holds."""
-    spec = tmp_path / "karlsruhe.toml"
-    draft_spec_file(KARLSRUHE_URDF, spec, REGISTRY, None)
-    written = synthesize_spec_file(spec, REGISTRY, backend, grasps=[HumanGrasp.POWER_SPHERE])
-    assert written.synthesis is not None
-    result = written.synthesis.grasps[0]
+    result = _synthesised(
+        KARLSRUHE_URDF, tmp_path / "karlsruhe.toml", backend, HumanGrasp.POWER_SPHERE
+    )
     assert result.held, result.failure
     assert dict(result.chosen.choice.thumb)["kh_thumb_base"] == pytest.approx(1.5708, abs=1e-3)
     assert result.chosen.choice.shift_x > 0.0  # towards the fingers
@@ -249,14 +252,10 @@ def test_the_ability_hand_as_shipped_holds_a_large_cylinder(tmp_path, backend):
     must hold from the first step, and which stop each finger before its own limit (the
     kinematic closing must stop it there too); its palm frame lies on the palm, not on a
     bump of it. Drafted and synthesised, no hand-written value: it holds."""
-    from tests.conftest import _vendor_dir
+    from conftest import _vendor_dir
 
     urdf = _vendor_dir("hands", "ability_hand") / "ability_hand_right.urdf"
-    spec = tmp_path / "ability.toml"
-    draft_spec_file(urdf, spec, REGISTRY, None)
-    written = synthesize_spec_file(spec, REGISTRY, backend, grasps=[HumanGrasp.LARGE_DIAMETER])
-    assert written.synthesis is not None
-    result = written.synthesis.grasps[0]
+    result = _synthesised(urdf, tmp_path / "ability.toml", backend, HumanGrasp.LARGE_DIAMETER)
     assert result.held, result.failure
     # the fingers' leaders close no further than their followers let them (1.83 rad)
     closed = result.chosen.preshape.closed_q

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import THIRD_PARTY, _vendor_dir
 
 from graspframe.checks.hand import check_hand_report
 from graspframe.checks.self_collision import posture_collisions
@@ -22,7 +23,6 @@ from graspframe.robot_models.model import CollisionModel, model_of
 from graspframe.specs import load_spec
 from graspframe.specs.draft import draft_hand
 from graspframe.specs.draft_text import generic_wrap, spec_text
-from tests.conftest import THIRD_PARTY, _vendor_dir
 
 ROBOTS = Path(__file__).resolve().parents[2] / "robots"
 
