@@ -238,6 +238,10 @@ class HandDescription:
     preshapes: preshape name -> preshape.
     grasp_map: every HumanGrasp -> a preshape name (for the human hand: its posture).
     drive: PD gains for the simulated finger drives.
+    synchronised_closing: True when the hand's controller moves to a commanded posture
+        in a straight line in joint space, every joint arriving together (the closing
+        the planner's kinematic closing models); False when each joint moves at its own
+        velocity limit, as independent finger motors do (graspframe/hal/hand_control.py).
     mass: [kg] total, informative.
     extras: further facts about the hand, by key, for plugins (graspframe reads none).
     fingertip_frames: real finger name -> the link or added frame at that finger's tip,
@@ -263,6 +267,7 @@ class HandDescription:
     grasp_map: Mapping[HumanGrasp, str]
     drive: DriveGains
     couplings: tuple[Coupling, ...] = ()
+    synchronised_closing: bool = False
     mass: float = 0.0
     summary: str = ""
     extras: Mapping[str, object] = field(default_factory=dict)

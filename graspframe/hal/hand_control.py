@@ -5,7 +5,13 @@ measured joint positions and velocities, calls `HandController.update` before ev
 and sends the returned targets to its drives.
 
 Each joint's setpoint (the motor position) moves towards its command at the joint's
-velocity limit, as a real finger motor does. Closing means increasing a leader joint's
+velocity limit, as independent finger motors do (the Barrett's). A hand whose
+controller interpolates postures (`HandDescription.synchronised_closing`) moves its
+setpoints in a straight line in joint space instead: every joint arrives at its
+command when the slowest one does at its velocity limit. Its fingers then close along
+the path the planner's kinematic closing follows (hand_geometry.py: open to closed, one
+fraction for every joint), and a finger with a short way to go does not reach the
+object long before the others and push it away. Closing means increasing a leader joint's
 angle. For a controller coupling (`Coupling.in_model` False) the follower's target is
 the coupling of the leader's motor position. With a breakaway torque (Barrett
 TorqueSwitch), once the leader's drive torque exceeds it while closing, the leader is
@@ -44,6 +50,8 @@ class HandController:
         self._spec = {j.name: j for j in hand.joints}
         self._commanded: dict[str, float] = dict.fromkeys(hand.joint_names, 0.0)
         self._setpoint: dict[str, float] = dict.fromkeys(hand.joint_names, 0.0)
+        # [rad/s] each setpoint's speed towards its command, set by `command`
+        self._speed: dict[str, float] = {j.name: j.max_velocity for j in hand.joints}
         self._held: dict[str, float] = {}
 
     def command(self, q_by_joint: Mapping[str, float]) -> None:
@@ -55,6 +63,22 @@ class HandController:
             if not np.isfinite(value):
                 raise GraspframeError(f"hand target for {name!r} is not finite: {value}")
             self._commanded[name] = float(value)
+        if self.hand.synchronised_closing:
+            self._synchronise()
+
+    def _synchronise(self) -> None:
+        """Scale the setpoints' speeds so that every joint reaches its command when the
+        slowest one does, at its velocity limit."""
+        followers = {c.follower for c in self._couplings}  # driven by their leaders' motors
+        remaining = {
+            n: abs(self._commanded[n] - self._setpoint[n])
+            for n in self._commanded
+            if n not in followers
+        }
+        duration = max(remaining[n] / self._spec[n].max_velocity for n in remaining)
+        for name, distance in remaining.items():
+            limit = self._spec[name].max_velocity
+            self._speed[name] = limit if duration <= 0.0 else min(limit, distance / duration)
 
     def update(
         self, dt: float, q: Mapping[str, float], qd: Mapping[str, float]
@@ -63,7 +87,7 @@ class HandController:
         positions q [rad] and velocities qd [rad/s]; returns the drive target of every
         actuated joint [rad], within its limits."""
         for name, command in self._commanded.items():
-            step = self._spec[name].max_velocity * dt
+            step = self._speed[name] * dt
             setpoint = self._setpoint[name]
             self._setpoint[name] = setpoint + float(np.clip(command - setpoint, -step, step))
         targets = dict(self._setpoint)
@@ -102,6 +126,7 @@ class HandController:
         (after the backend teleported the joints)."""
         self._setpoint = {name: float(q_measured[name]) for name in self.hand.joint_names}
         self._commanded = dict(self._setpoint)
+        self._speed = {j.name: j.max_velocity for j in self.hand.joints}
         self._held.clear()
 
     @property

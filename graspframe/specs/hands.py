@@ -30,6 +30,7 @@ HAND_KEYS = (
     "packages", "frames", "fingers", "fingertips", "joints", "drive", "couplings",
     "preshapes", "grasp_map",
 )  # fmt: skip
+DRIVE_SYNCHRONISED = "synchronised"
 COUPLING_KEYS = ("follower", "leader", "multiplier", "offset", "breakaway_torque")
 PRESHAPE_KEYS = (
     "open", "open_deg", "closed", "closed_deg", "delta", "grasp_center", "design_object",
@@ -205,7 +206,8 @@ def read_hand(reader: SpecReader, data: Mapping[str, Any]) -> HandDescription:
         real_fingers=fingers,
         preshapes=preshapes,
         grasp_map=_grasp_map(reader, data, preshapes),
-        drive=read_drive(reader, data),
+        drive=read_drive(reader, data, (DRIVE_SYNCHRONISED,)),
+        synchronised_closing=_synchronised(reader, data),
         couplings=tuple(couplings),
         mass=reader.number(data, "mass", "the spec", 0.0),
         summary=str(data.get("summary", "")),
@@ -215,6 +217,14 @@ def read_hand(reader: SpecReader, data: Mapping[str, Any]) -> HandDescription:
         frames=frames,
     )
     return _with_deltas(reader, hand, tips)
+
+
+def _synchronised(reader: SpecReader, data: Mapping[str, Any]) -> bool:
+    """[drive] synchronised: the controller moves every joint to a posture together."""
+    value = reader.table(data, "drive", "the spec", required=True).get(DRIVE_SYNCHRONISED, False)
+    if not isinstance(value, bool):
+        raise reader.fail(f"[drive] {DRIVE_SYNCHRONISED} must be true or false, got {value!r}")
+    return value
 
 
 def _with_deltas(

@@ -48,9 +48,13 @@ def read_frames(reader: SpecReader, data: Mapping[str, Any]) -> dict[str, FrameO
     return frames
 
 
-def read_drive(reader: SpecReader, data: Mapping[str, Any]) -> DriveGains:
+def read_drive(
+    reader: SpecReader, data: Mapping[str, Any], other_keys: tuple[str, ...] = ()
+) -> DriveGains:
+    """The [drive] table's gains; `other_keys`: further keys the table may hold (read
+    by the caller)."""
     table = reader.table(data, "drive", "the spec", required=True)
-    reader.keys(table, (*DRIVE_KEYS, DRIVE_ARMATURE), "[drive]")
+    reader.keys(table, (*DRIVE_KEYS, DRIVE_ARMATURE, *other_keys), "[drive]")
     stiffness, damping, force_limit = (reader.number(table, k, "[drive]") for k in DRIVE_KEYS)
     armature = reader.number(table, DRIVE_ARMATURE, "[drive]", 0.0)
     return DriveGains(stiffness, damping, force_limit, armature)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import pytest
 
@@ -31,6 +32,28 @@ def test_setpoints_move_at_the_joint_velocity_limit(tmp_path):
     for _ in range(100):
         targets = controller.update(DT, still, still)
     assert targets == pytest.approx({FINGER: 1.0, THUMB: 0.0})
+
+
+def test_independent_joints_arrive_one_after_the_other(tmp_path):
+    controller = _controller(tmp_path)
+    controller.command({FINGER: 1.2, THUMB: 0.4})
+    still = {FINGER: 0.0, THUMB: 0.0}
+    targets = [controller.update(DT, still, still) for _ in range(30)]
+    assert targets[19] == pytest.approx({FINGER: 0.4, THUMB: 0.4})  # the thumb is there
+    assert targets[29][FINGER] == pytest.approx(0.6)
+
+
+def test_a_synchronised_hand_moves_every_joint_in_step(tmp_path):
+    hand = make_fake_hand(tmp_path / "fake.urdf")
+    controller = HandController(replace(hand, synchronised_closing=True))
+    controller.command({FINGER: 1.2, THUMB: 0.4})  # 0.6 s for the finger at 2 rad/s
+    still = {FINGER: 0.0, THUMB: 0.0}
+    targets = [controller.update(DT, still, still) for _ in range(60)]
+    assert targets[29] == pytest.approx({FINGER: 0.6, THUMB: 0.2})  # half way, both
+    assert targets[59] == pytest.approx({FINGER: 1.2, THUMB: 0.4})  # there together
+    # A new command from where the setpoints are: only the thumb moves, at its limit.
+    controller.command({THUMB: 0.0})
+    assert controller.update(DT, still, still) == pytest.approx({FINGER: 1.2, THUMB: 0.38})
 
 
 def test_targets_stay_within_the_joint_limits(tmp_path):

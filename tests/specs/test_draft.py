@@ -94,6 +94,7 @@ def test_the_vendor_hands_are_drafted_as_shipped(urdf, fingers, thumb_link, note
         assert f"# NOT DECIDED: {note}" in spec.read_text()
     assert _palm_z_in_root(spec) @ np.array(palm, dtype=float) > 0.9
     assert hand.fingertip_frames["thumb"]
+    assert hand.synchronised_closing  # the closing the synthesis plans
     _passed, lines = check_hand_report(hand)
     if "bhand" not in urdf:  # the vendor Barrett's finger 3 lies over its palm: see notes
         assert ": passed" in lines[1], lines

@@ -131,6 +131,13 @@ def test_a_small_spec_loads(tmp_path):
     assert hand.preshape("close").closed_q["finger_joint"] == pytest.approx(math.radians(80))
 
 
+def test_a_spec_says_whether_its_controller_moves_the_joints_together(tmp_path):
+    assert not load_spec(_spec(tmp_path)).synchronised_closing
+    text = HAND_SPEC.format(extra="", extra_top="")
+    text = text.replace("[drive]", "[drive]\nsynchronised = true")
+    assert load_spec(_spec(tmp_path, text=text)).synchronised_closing
+
+
 @pytest.mark.parametrize(
     ("extra_top", "extra", "message"),
     [
@@ -169,6 +176,8 @@ def test_a_bad_spec_is_refused_in_one_line(tmp_path, extra_top, extra, message):
         (lambda t: t.replace('pinch = "close"', 'pinch = "open"'), "'open', which is not a"),
         (lambda t: t.replace('palm = ["base", "palm"]', ""), "needs 'palm'"),
         (lambda t: t.replace("[drive]", "[drive\n"), "is not valid TOML"),
+        (lambda t: t.replace("[drive]", "[drive]\nsynchronised = 'yes'"),
+         r"\[drive\] synchronised must be true or false, got 'yes'"),
     ],
 )  # fmt: skip
 def test_more_bad_specs(tmp_path, edit, message):
