@@ -47,11 +47,14 @@ class HandController:
     def __init__(self, hand: HandDescription) -> None:
         self.hand = hand
         self._couplings = [c for c in hand.couplings if not c.in_model]
+        self._followers = {c.follower for c in self._couplings}  # moved by their leaders
         self._spec = {j.name: j for j in hand.joints}
         self._commanded: dict[str, float] = dict.fromkeys(hand.joint_names, 0.0)
         self._setpoint: dict[str, float] = dict.fromkeys(hand.joint_names, 0.0)
-        # [rad/s] each setpoint's speed towards its command, set by `command`
-        self._speed: dict[str, float] = {j.name: j.max_velocity for j in hand.joints}
+        self._top_speed = {j.name: j.max_velocity for j in hand.joints}  # [rad/s]
+        # [rad/s] each setpoint's speed towards its command (a synchronised hand's: set
+        # by `command`)
+        self._speed = dict(self._top_speed)
         self._held: dict[str, float] = {}
 
     def command(self, q_by_joint: Mapping[str, float]) -> None:
@@ -69,16 +72,15 @@ class HandController:
     def _synchronise(self) -> None:
         """Scale the setpoints' speeds so that every joint reaches its command when the
         slowest one does, at its velocity limit."""
-        followers = {c.follower for c in self._couplings}  # driven by their leaders' motors
         remaining = {
             n: abs(self._commanded[n] - self._setpoint[n])
             for n in self._commanded
-            if n not in followers
+            if n not in self._followers
         }
-        duration = max(remaining[n] / self._spec[n].max_velocity for n in remaining)
+        duration = max(remaining[n] / self._top_speed[n] for n in remaining)
         for name, distance in remaining.items():
-            limit = self._spec[name].max_velocity
-            self._speed[name] = limit if duration <= 0.0 else min(limit, distance / duration)
+            top = self._top_speed[name]
+            self._speed[name] = top if duration <= 0.0 else min(top, distance / duration)
 
     def update(
         self, dt: float, q: Mapping[str, float], qd: Mapping[str, float]
@@ -126,7 +128,7 @@ class HandController:
         (after the backend teleported the joints)."""
         self._setpoint = {name: float(q_measured[name]) for name in self.hand.joint_names}
         self._commanded = dict(self._setpoint)
-        self._speed = {j.name: j.max_velocity for j in self.hand.joints}
+        self._speed = dict(self._top_speed)
         self._held.clear()
 
     @property
