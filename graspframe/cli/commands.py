@@ -374,6 +374,9 @@ def check_hand(
             "human reference grasps (a spec file only).",
         ),
     ] = False,
+    workers: Annotated[
+        int, typer.Option(help="With --synthesize: grasps synthesised at once, each in a process.")
+    ] = 2,
 ) -> None:
     """Check a hand plugin against the contract and say, in plain words, what is wrong."""
     from graspframe.cli.check_hand import check_hand_command
@@ -382,7 +385,7 @@ def check_hand(
     if synthesize:
         from graspframe.cli.spec_draft import synthesize_command
 
-        synthesize_command(name, backend)
+        synthesize_command(name, backend, workers)
     code = check_hand_command(
         name, hold=hold, backend=backend, pictures=pictures, arm=on_arm, held_test=held_test
     )

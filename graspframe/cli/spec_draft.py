@@ -64,19 +64,28 @@ def _report(written: Written) -> None:
             typer.echo(f"  - {note}")
 
 
+def _checked_workers(workers: int) -> int:
+    if workers < 1:
+        raise InputError(f"--workers must be 1 or more (grasps synthesised at once), got {workers}")
+    return workers
+
+
 def spec_draft_command(
-    urdf: Path, out: Path, synthesize: bool, name: str | None, backend: str
+    urdf: Path, out: Path, synthesize: bool, name: str | None, backend: str, workers: int = 1
 ) -> int:
+    _checked_workers(workers)
     registry = default_registry()
     physics = registry.get_backend(backend)() if synthesize else None
     from graspframe.mapping.spec_files import draft_spec_file
 
-    written = draft_spec_file(urdf, out, registry, physics, _progress(time.perf_counter()), name)
+    progress = _progress(time.perf_counter())
+    written = draft_spec_file(urdf, out, registry, physics, progress, name, workers)
     _report(written)
     return 0
 
 
-def synthesize_command(spec: str, backend: str) -> None:
+def synthesize_command(spec: str, backend: str, workers: int = 1) -> None:
+    _checked_workers(workers)
     if not is_spec_path(spec):
         raise InputError(
             f"--synthesize rewrites a spec file's preshapes; {spec!r} is not a spec file (*.toml)"
@@ -85,8 +94,11 @@ def synthesize_command(spec: str, backend: str) -> None:
     physics = registry.get_backend(backend)()
     from graspframe.mapping.spec_files import synthesize_spec_file
 
-    _report(synthesize_spec_file(Path(spec), registry, physics, _progress(time.perf_counter())))
+    progress = _progress(time.perf_counter())
+    _report(synthesize_spec_file(Path(spec), registry, physics, progress, workers=workers))
 
+
+WORKERS_HELP = "Grasps synthesised at once, each in a process of its own."
 
 spec_app = typer.Typer(help="Hand spec files: draft one from a URDF.", no_args_is_help=True)
 
@@ -107,7 +119,8 @@ def spec_draft(
     backend: Annotated[
         str, typer.Option(help="Physics backend of the synthesis.")
     ] = DEFAULT_BACKEND,
+    workers: Annotated[int, typer.Option(help=WORKERS_HELP)] = 2,
 ) -> None:
     """Draft a hand spec from a URDF: fingers, thumb, palm frame and pad, joint roles,
     drive; then its preshapes, synthesised. Says what it could not decide."""
-    raise typer.Exit(spec_draft_command(urdf, out, synthesize, name, backend))
+    raise typer.Exit(spec_draft_command(urdf, out, synthesize, name, backend, workers))

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from itertools import combinations
 
 import numpy as np
@@ -19,6 +19,18 @@ from graspframe.common.grasps import PALM, HumanGrasp
 from graspframe.common.transforms import inv_T, make_T
 from graspframe.hal.descriptions import DesignObject, HandDescription, HandPreshape
 from graspframe.hal.objects import ObjectDescription
+from graspframe.mapping.choices import (
+    CLOSE_FRACTIONS,
+    OPEN_FRACTIONS,
+    ROLLS_DEG,
+    SHIFTS_X,
+    SHIFTS_Y,
+    SPREADS,
+    STANDOFFS,
+    STOW_FRACTIONS,
+    Choice,
+    Evaluated,
+)
 from graspframe.mapping.grip import epsilon_of, gripping, imbalance
 from graspframe.mapping.refusals import approach_refusal, below_table, self_collisions
 from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_contacts
@@ -26,15 +38,7 @@ from graspframe.robot_models.model import CollisionModel, model_of
 from graspframe.specs.draft import HandDraft
 from graspframe.strategy.planner import PlannerParams, object_in_palm
 
-ROLLS_DEG = (0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0)
-OPEN_FRACTIONS = (0.0, 0.15, 0.3, 0.45)
 RAISES = 2  # times a candidate is raised off the table before it is refused
-CLOSE_FRACTIONS = (1.0, 0.75, 0.5)  # of the way from rest to the closing limit
-STOW_FRACTIONS = (1.0, 0.6, 0.3, 0.0)  # a finger that does not close: of the way curled
-SPREADS = (0.0, 1.0 / 3.0)  # of the way from rest to a spread joint's far limit
-SHIFTS_X = (-0.045, -0.03, -0.015, 0.0, 0.015, 0.03, 0.045)  # [m] grasp centre along palm x
-SHIFTS_Y = (-0.04, -0.02, 0.0, 0.02, 0.04)  # [m] along palm y
-STANDOFFS = (0.0, 0.015, 0.03)  # [m] non-volar: beyond the planner's palm clearance
 VF_COUNT_COST = 30.0  # objective per virtual finger more or fewer than the human's
 # Penalties of a refused candidate (the search walks through them to feasible ones).
 INSIDE_COST = 200.0  # per link of the open hand in the object
@@ -54,38 +58,6 @@ STARTS = 3  # thumb placings the search starts from
 ROBUST_SHIFT = 0.01  # [m]
 SURFACE_SAMPLES = 20000  # points of the object's surface touches are projected on
 VOLAR_GAP = 0.003  # [m] a volar candidate is closed with the object this far off the palm
-
-
-@dataclass(frozen=True)
-class Choice:
-    """One candidate preshape's parameters (see the module docstring)."""
-
-    fingers: tuple[str, ...]
-    roll_deg: float = 0.0
-    thumb: tuple[tuple[str, float], ...] = ()
-    spread: float = 0.0
-    open_fraction: float = 0.0  # the widest aperture: the likeliest to clear the object
-    close_fraction: float = 1.0
-    stow_fraction: float = 1.0
-    shift_x: float = 0.0
-    shift_y: float = 0.0
-    standoff: float = 0.0
-
-
-@dataclass(frozen=True)
-class Evaluated:
-    """A candidate closed kinematically: its preshape, the objective (inf: refused, with
-    `refused` saying why), the errors and the real fingers that touched."""
-
-    choice: Choice
-    preshape: HandPreshape
-    cost: float
-    position_err_mm: float = math.nan
-    orientation_err_deg: float = math.nan
-    touched: tuple[str, ...] = ()
-    refused: str | None = None
-    unbalanced: float = math.nan  # the contacts' unbalanced push (see imbalance)
-    epsilon: float = math.nan  # the contacts' Ferrari-Canny L1 epsilon (see epsilon_of)
 
 
 class CandidateSpace:

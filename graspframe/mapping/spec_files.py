@@ -46,9 +46,10 @@ def draft_spec_file(
     backend: Backend | None,
     progress: Callable[[str], None] = lambda _message: None,
     name: str | None = None,
+    workers: int = 1,
 ) -> Written:
     """Draft the spec of the hand in `urdf` and write it to `out`; with a backend, its
-    preshapes synthesised (else the generic wrap)."""
+    preshapes synthesised (else the generic wrap), `workers` grasps at once."""
     if not Path(urdf).is_file():
         raise InputError(f"URDF not found: {urdf}")
     if Path(out).suffix.lower() != ".toml":
@@ -66,7 +67,7 @@ def draft_spec_file(
     if backend is not None:
         started = time.perf_counter()
         hand = registry.get_hand(str(out))
-        synthesis = synthesize(hand, registry, backend, progress=progress)
+        synthesis = synthesize(hand, registry, backend, progress=progress, workers=workers)
         steps["synthesis"] = time.perf_counter() - started
         atomic_write(
             Path(out), spec_text(draft, preshape_tables(synthesis, draft), synthesis.grasp_map)
@@ -85,13 +86,14 @@ def synthesize_spec_file(
     backend: Backend,
     progress: Callable[[str], None] = lambda _message: None,
     grasps: Sequence[HumanGrasp] = tuple(HumanGrasp),
+    workers: int = 1,
 ) -> Written:
     """Replace the spec's preshape tables and grasp map by synthesised ones (for
-    `grasps`: every human grasp by default)."""
+    `grasps`: every human grasp by default), `workers` grasps at once."""
     started = time.perf_counter()
     hand = registry.get_hand(str(spec))
     draft, _names = roles_of(hand)
-    synthesis = synthesize(hand, registry, backend, grasps, progress=progress)
+    synthesis = synthesize(hand, registry, backend, grasps, progress=progress, workers=workers)
     text = without_tables(Path(spec).read_text(), ("preshapes", "grasp_map"))
     grasp_map = "\n".join(
         ["[grasp_map]", *(f'{g} = "{p}"' for g, p in synthesis.grasp_map.items())]

@@ -65,7 +65,8 @@ from graspframe.common.grasps import HUMAN_HAND, HumanGrasp
 from graspframe.hal.descriptions import HandDescription, HandPreshape
 from graspframe.hal.drivers import Backend
 from graspframe.hal.objects import ObjectDescription
-from graspframe.mapping.candidates import CandidateSpace, Evaluated
+from graspframe.mapping.candidates import CandidateSpace
+from graspframe.mapping.choices import Evaluated
 from graspframe.mapping.roles import roles_of
 from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_contacts
 from graspframe.specs.draft_text import written_posture
@@ -144,55 +145,81 @@ def synthesize(
     progress: Callable[[str], None] = lambda _message: None,
     held: HeldTest | None = None,
     test_held: bool = True,
+    workers: int = 1,
 ) -> Synthesis:
     """Preshapes of `hand` for `grasps`, synthesised from the human reference grasps on
     experiment A's objects (module docstring); `registry` gives the objects and the
-    human hand, `backend` simulates the human reference and the held trials."""
-    from graspframe.strategy.human_reference import human_reference
-    from graspframe.strategy.reference_poses import reference_placement
-
+    human hand, `backend` simulates the human reference and the held trials. workers:
+    grasps synthesised at once, each in a process of its own (mapping/parallel.py; its
+    registry the default one) when more than 1."""
     started = time.perf_counter()
     held = held or HeldTest()
-    draft, names = roles_of(hand)
-    human = registry.get_hand(HUMAN_HAND)
-    results, impossible = [], {}
-    for grasp in grasps:
-        t0 = time.perf_counter()
-        obj = registry.default_object_for(grasp)
-        progress(f"{grasp.value}: the human reference on {obj.name}")
-        reference = human_reference(grasp, obj, human, backend, held)
-        T_object_human_palm = reference_placement(obj, human.preshape_for(grasp)).T_object_palm
-        space = CandidateSpace(
-            hand, draft, names, grasp, obj, T_object_human_palm, reference.contacts,
-            human.finger_names,
-        )  # fmt: skip
-        if not reference.contacts:
-            raise GraspframeError(f"the human reference of {grasp.value} has no contacts")
-        progress(f"{grasp.value}: searching the preshapes (kinematic closing on {obj.name})")
-        found = space.search()  # best first
-        ranked = [e for e in found if e.refused is None]
-        # the best ROBUST_CANDIDATES, in the order of their worst objective nearby
-        robust = sorted(ranked[:ROBUST_CANDIDATES], key=space.robust_cost)
-        ranked = robust + ranked[ROBUST_CANDIDATES:]
-        if not ranked:
-            nearest = found[:3]
-            reasons = list(dict.fromkeys(e.refused or "" for e in nearest))
-            impossible[grasp.value] = (
-                f"{hand.name} cannot make a {grasp.value} on {obj.name}: every candidate was "
-                f"refused; the nearest: {' | '.join(reasons)}"
-            )
-            progress(f"{grasp.value}: no preshape ({impossible[grasp.value]})")
-            continue
-        outcome = GraspSynthesis(grasp, obj, ranked[0], None, evaluated=len(space.cache))
-        if test_held:
-            _held_trials(outcome, _distinct(ranked)[:HELD_TRIALS], space, draft, backend, held,
-                         T_object_human_palm, progress)  # fmt: skip
-        outcome.seconds = time.perf_counter() - t0
-        results.append(outcome)
+    if workers > 1 and len(grasps) > 1:
+        from graspframe.mapping.parallel import synthesize_in_workers
+
+        found = synthesize_in_workers(
+            hand, backend.name, grasps, held, test_held, workers, progress
+        )
+    else:
+        found = [
+            synthesize_grasp(hand, registry, backend, grasp, held, test_held, progress)
+            for grasp in grasps
+        ]
+    results = [r for r in found if isinstance(r, GraspSynthesis)]
+    impossible = {g.value: r for g, r in zip(grasps, found, strict=True) if isinstance(r, str)}
     if not results:  # a spec needs one preshape at least
         raise GraspframeError("; ".join(impossible.values()))
     preshapes, grasp_map = _merged(results)
     return Synthesis(results, grasp_map, preshapes, time.perf_counter() - started, impossible)
+
+
+def synthesize_grasp(
+    hand: HandDescription,
+    registry,
+    backend: Backend,
+    grasp: HumanGrasp,
+    held: HeldTest,
+    test_held: bool = True,
+    progress: Callable[[str], None] = lambda _message: None,
+) -> GraspSynthesis | str:
+    """One grasp's synthesis (module docstring), or why the hand cannot make it (every
+    candidate refused)."""
+    from graspframe.strategy.human_reference import human_reference
+    from graspframe.strategy.reference_poses import reference_placement
+
+    draft, names = roles_of(hand)
+    human = registry.get_hand(HUMAN_HAND)
+    t0 = time.perf_counter()
+    obj = registry.default_object_for(grasp)
+    progress(f"{grasp.value}: the human reference on {obj.name}")
+    reference = human_reference(grasp, obj, human, backend, held)
+    T_object_human_palm = reference_placement(obj, human.preshape_for(grasp)).T_object_palm
+    space = CandidateSpace(
+        hand, draft, names, grasp, obj, T_object_human_palm, reference.contacts,
+        human.finger_names,
+    )  # fmt: skip
+    if not reference.contacts:
+        raise GraspframeError(f"the human reference of {grasp.value} has no contacts")
+    progress(f"{grasp.value}: searching the preshapes (kinematic closing on {obj.name})")
+    found = space.search()  # best first
+    ranked = [e for e in found if e.refused is None]
+    # the best ROBUST_CANDIDATES, in the order of their worst objective nearby
+    robust = sorted(ranked[:ROBUST_CANDIDATES], key=space.robust_cost)
+    ranked = robust + ranked[ROBUST_CANDIDATES:]
+    if not ranked:
+        reasons = list(dict.fromkeys(e.refused or "" for e in found[:3]))
+        impossible = (
+            f"{hand.name} cannot make a {grasp.value} on {obj.name}: every candidate was "
+            f"refused; the nearest: {' | '.join(reasons)}"
+        )
+        progress(f"{grasp.value}: no preshape ({impossible})")
+        return impossible
+    outcome = GraspSynthesis(grasp, obj, ranked[0], None, evaluated=len(space.cache))
+    if test_held:
+        _held_trials(outcome, _distinct(ranked)[:HELD_TRIALS], space, draft, backend, held,
+                     T_object_human_palm, progress)  # fmt: skip
+    outcome.seconds = time.perf_counter() - t0
+    return outcome
 
 
 def _held_trials(

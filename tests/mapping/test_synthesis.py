@@ -158,7 +158,7 @@ def test_without_tables_drops_a_table_and_its_subtables_only():
 
 
 def test_held_trials_alternate_the_next_best_and_another_finger_arrangement():
-    from graspframe.mapping.candidates import Choice, Evaluated
+    from graspframe.mapping.choices import Choice, Evaluated
     from graspframe.mapping.synthesis import _distinct
 
     all_four, pinch = ("f1", "f2", "thumb"), ("f1", "thumb")
@@ -213,6 +213,22 @@ def test_a_candidate_whose_fingers_do_not_meet_when_closed_is_refused(tmp_path, 
     refused = space.score(still_open, choice)
     assert refused.refused is not None and "opposing fingers must end within" in refused.refused
     assert refused.cost > closing.cost
+
+
+def test_grasps_synthesised_in_worker_processes_write_the_same_table(tmp_path, backend):
+    """Two grasps synthesised side by side, each in a worker process of its own, give
+    the table one process writes, line for line, progress lines included."""
+    grasps = [HumanGrasp.PINCH, HumanGrasp.SMALL_DIAMETER]
+    texts, progress = [], []
+    for workers in (1, 2):
+        spec = tmp_path / f"gripper_{workers}.toml"
+        draft_spec_file(GRIPPER_URDF, spec, REGISTRY, None)
+        lines: list[str] = []
+        synthesize_spec_file(spec, REGISTRY, backend, lines.append, grasps, workers=workers)
+        texts.append(spec.read_text())
+        progress.append(sorted(lines))
+    assert texts[0] == texts[1]
+    assert progress[0] == progress[1] and any("held test 1" in line for line in progress[1])
 
 
 def test_a_grasp_the_hand_cannot_make_is_left_out_of_the_table_and_the_others_are_written(

@@ -153,6 +153,14 @@ def test_a_urdf_without_moving_joints_is_refused(tmp_path):
             ["spec", "draft", "{urdf}", "--out", "x.txt", "--no-synthesize"],
             "--out must name a .toml",
         ),
+        (
+            ["spec", "draft", "{urdf}", "--out", "x.toml", "--workers", "0"],
+            "--workers must be 1 or more (grasps synthesised at once), got 0",
+        ),
+        (
+            ["check-hand", "x.toml", "--synthesize", "--workers", "0"],
+            "--workers must be 1 or more",
+        ),
     ],
 )
 def test_bad_draft_arguments_get_one_line(args, message, tmp_path, monkeypatch, capsys):
