@@ -5,7 +5,8 @@ the kinematic search and the held trials) depends on no other, so on a machine w
 more than one core they run side by side. A worker builds the default registry and the
 named backend once, then synthesises the grasps it is given; its progress lines reach
 the caller through a queue as they are written. Ctrl-C reaches the caller alone (the
-workers ignore it), which ends the workers.
+workers ignore it), which ends the workers; a worker that dies (a crash of the physics
+engine) ends the synthesis with an error rather than leaving its grasp waiting.
 """
 
 from __future__ import annotations
@@ -13,9 +14,12 @@ from __future__ import annotations
 import queue
 import signal
 from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from multiprocessing import get_context
 from typing import Any
 
+from graspframe.common.errors import GraspframeError
 from graspframe.common.grasps import HumanGrasp
 from graspframe.hal.descriptions import HandDescription
 from graspframe.strategy.held_check import HeldTest
@@ -38,26 +42,31 @@ def synthesize_in_workers(
     make it), in the order of `grasps`, from up to `workers` processes."""
     context = get_context("spawn")
     messages = context.Queue()
-    pool = context.Pool(
-        min(workers, len(grasps)), initializer=_start, initargs=(backend_name, messages)
+    pool = ProcessPoolExecutor(
+        min(workers, len(grasps)),
+        mp_context=context,
+        initializer=_start,
+        initargs=(backend_name, messages),
     )
     finished = False
     try:
-        pending = [
-            pool.apply_async(_synthesize, (hand, grasp, held, test_held)) for grasp in grasps
-        ]
-        while not all(p.ready() for p in pending):
+        pending = [pool.submit(_synthesize, hand, grasp, held, test_held) for grasp in grasps]
+        while not all(p.done() for p in pending):
             _relay(messages, progress, POLL)
         _relay(messages, progress, 0.0)
-        results = [p.get() for p in pending]  # a worker's exception is raised here
+        results = [p.result() for p in pending]  # a worker's exception is raised here
         finished = True
         return results
+    except BrokenProcessPool:
+        raise GraspframeError(
+            "a synthesis worker process stopped before its grasp was done (a crash of the "
+            "simulator?); --workers 1 runs the synthesis in one process and shows where"
+        ) from None
     finally:
-        if finished:
-            pool.close()
-        else:  # an error or Ctrl-C: the grasps still running are not waited for
-            pool.terminate()
-        pool.join()
+        if not finished:  # an error or Ctrl-C: the grasps still running are not waited for
+            for process in list(pool._processes.values()):
+                process.terminate()
+        pool.shutdown(wait=finished, cancel_futures=not finished)
 
 
 def _relay(messages, progress: Callable[[str], None], timeout: float) -> None:

@@ -231,6 +231,21 @@ def test_grasps_synthesised_in_worker_processes_write_the_same_table(tmp_path, b
     assert progress[0] == progress[1] and any("held test 1" in line for line in progress[1])
 
 
+def test_a_synthesis_worker_that_stops_ends_the_synthesis_with_one_error(tmp_path):
+    """A worker process that cannot go on (here: its backend cannot be built, as a
+    worker killed by a crash cannot report either) ends the synthesis with an error
+    naming the way to see where, instead of leaving its grasps waiting."""
+    from graspframe.mapping.parallel import synthesize_in_workers
+    from graspframe.strategy.held_check import HeldTest
+
+    spec = tmp_path / "gripper.toml"
+    draft_spec_file(GRIPPER_URDF, spec, REGISTRY, None)
+    hand = REGISTRY.get_hand(str(spec))
+    grasps = [HumanGrasp.PINCH, HumanGrasp.SMALL_DIAMETER]
+    with pytest.raises(GraspframeError, match="--workers 1 runs the synthesis in one process"):
+        synthesize_in_workers(hand, "no-such-backend", grasps, HeldTest(), True, 2, print)
+
+
 def test_a_grasp_the_hand_cannot_make_is_left_out_of_the_table_and_the_others_are_written(
     tmp_path, backend, monkeypatch
 ):
