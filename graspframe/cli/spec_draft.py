@@ -64,10 +64,9 @@ def _report(written: Written) -> None:
             typer.echo(f"  - {note}")
 
 
-def _checked_workers(workers: int) -> int:
+def _checked_workers(workers: int) -> None:
     if workers < 1:
         raise InputError(f"--workers must be 1 or more (grasps synthesised at once), got {workers}")
-    return workers
 
 
 def spec_draft_command(

@@ -22,6 +22,7 @@ from typing import Any
 from graspframe.common.errors import GraspframeError
 from graspframe.common.grasps import HumanGrasp
 from graspframe.hal.descriptions import HandDescription
+from graspframe.specs.draft import HandDraft
 from graspframe.strategy.held_check import HeldTest
 
 POLL = 0.2  # [s] between looks at the workers' progress and results
@@ -31,6 +32,7 @@ _worker: dict[str, Any] = {}  # in a worker: its registry, backend and progress 
 
 def synthesize_in_workers(
     hand: HandDescription,
+    roles: tuple[HandDraft, dict[str, str]],
     backend_name: str,
     grasps: Sequence[HumanGrasp],
     held: HeldTest,
@@ -39,7 +41,8 @@ def synthesize_in_workers(
     progress: Callable[[str], None],
 ) -> list:
     """Each grasp's `synthesize_grasp` result (a GraspSynthesis, or why the hand cannot
-    make it), in the order of `grasps`, from up to `workers` processes."""
+    make it), in the order of `grasps`, from up to `workers` processes; roles: the
+    hand's `roles_of`."""
     context = get_context("spawn")
     messages = context.Queue()
     pool = ProcessPoolExecutor(
@@ -50,7 +53,9 @@ def synthesize_in_workers(
     )
     finished = False
     try:
-        pending = [pool.submit(_synthesize, hand, grasp, held, test_held) for grasp in grasps]
+        pending = [
+            pool.submit(_synthesize, hand, roles, grasp, held, test_held) for grasp in grasps
+        ]
         while not all(p.done() for p in pending):
             _relay(messages, progress, POLL)
         _relay(messages, progress, 0.0)
@@ -90,11 +95,18 @@ def _start(backend_name: str, messages) -> None:
     )
 
 
-def _synthesize(hand: HandDescription, grasp: HumanGrasp, held: HeldTest, test_held: bool):
+def _synthesize(
+    hand: HandDescription,
+    roles: tuple[HandDraft, dict[str, str]],
+    grasp: HumanGrasp,
+    held: HeldTest,
+    test_held: bool,
+):
     from graspframe.mapping.synthesis import synthesize_grasp
 
     return synthesize_grasp(
         hand,
+        roles,
         _worker["registry"],
         _worker["backend"],
         grasp,

@@ -69,6 +69,7 @@ from graspframe.mapping.candidates import CandidateSpace
 from graspframe.mapping.choices import Evaluated
 from graspframe.mapping.roles import roles_of
 from graspframe.metrics.virtual_fingers import compare, virtual_fingers_from_contacts
+from graspframe.specs.draft import HandDraft
 from graspframe.specs.draft_text import written_posture
 from graspframe.strategy.held_check import HeldTest
 from graspframe.strategy.planner import PlanningError
@@ -154,15 +155,16 @@ def synthesize(
     registry the default one) when more than 1."""
     started = time.perf_counter()
     held = held or HeldTest()
+    roles = roles_of(hand)  # the URDF drafted again once, for every grasp
     if workers > 1 and len(grasps) > 1:
         from graspframe.mapping.parallel import synthesize_in_workers
 
         found = synthesize_in_workers(
-            hand, backend.name, grasps, held, test_held, workers, progress
+            hand, roles, backend.name, grasps, held, test_held, workers, progress
         )
     else:
         found = [
-            synthesize_grasp(hand, registry, backend, grasp, held, test_held, progress)
+            synthesize_grasp(hand, roles, registry, backend, grasp, held, test_held, progress)
             for grasp in grasps
         ]
     results = [r for r in found if isinstance(r, GraspSynthesis)]
@@ -175,6 +177,7 @@ def synthesize(
 
 def synthesize_grasp(
     hand: HandDescription,
+    roles: tuple[HandDraft, dict[str, str]],
     registry,
     backend: Backend,
     grasp: HumanGrasp,
@@ -183,11 +186,11 @@ def synthesize_grasp(
     progress: Callable[[str], None] = lambda _message: None,
 ) -> GraspSynthesis | str:
     """One grasp's synthesis (module docstring), or why the hand cannot make it (every
-    candidate refused)."""
+    candidate refused); roles: the hand's `roles_of`."""
     from graspframe.strategy.human_reference import human_reference
     from graspframe.strategy.reference_poses import reference_placement
 
-    draft, names = roles_of(hand)
+    draft, names = roles
     human = registry.get_hand(HUMAN_HAND)
     t0 = time.perf_counter()
     obj = registry.default_object_for(grasp)

@@ -236,6 +236,7 @@ def test_a_synthesis_worker_that_stops_ends_the_synthesis_with_one_error(tmp_pat
     worker killed by a crash cannot report either) ends the synthesis with an error
     naming the way to see where, instead of leaving its grasps waiting."""
     from graspframe.mapping.parallel import synthesize_in_workers
+    from graspframe.mapping.roles import roles_of
     from graspframe.strategy.held_check import HeldTest
 
     spec = tmp_path / "gripper.toml"
@@ -243,7 +244,9 @@ def test_a_synthesis_worker_that_stops_ends_the_synthesis_with_one_error(tmp_pat
     hand = REGISTRY.get_hand(str(spec))
     grasps = [HumanGrasp.PINCH, HumanGrasp.SMALL_DIAMETER]
     with pytest.raises(GraspframeError, match="--workers 1 runs the synthesis in one process"):
-        synthesize_in_workers(hand, "no-such-backend", grasps, HeldTest(), True, 2, print)
+        synthesize_in_workers(
+            hand, roles_of(hand), "no-such-backend", grasps, HeldTest(), True, 2, print
+        )
 
 
 def test_a_grasp_the_hand_cannot_make_is_left_out_of_the_table_and_the_others_are_written(
